@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The main job: the paper's viscous ring (configs/ring.toml, 10,000 particles), its report with
+# figures (runs/ring/report/report.md), and the accuracy table of the last output at the end.
+# Extra arguments go to `sphdisk run`, e.g. --set problem.particles=100000.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+exe=build/release/sphdisk
+dir=runs/ring
+mkdir -p runs
+$exe run configs/ring.toml --output "$dir" --overwrite "$@" > "$dir.table.txt"
+$exe report "$dir"
+echo
+echo "report: $dir/report/report.md"
+echo "accuracy against the analytic solution (last output):"
+cat "$dir.table.txt"

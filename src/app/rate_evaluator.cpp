@@ -1,0 +1,44 @@
+#include "app/rate_evaluator.hpp"
+
+#include "neighbours/cell_grid.hpp"
+#include "physics/density.hpp"
+#include "physics/forces.hpp"
+#include "physics/viscous_stress.hpp"
+
+namespace sphdisk {
+
+template <int D>
+void RateEvaluator<D>::evaluate(Particles<D>& p) {
+  const double support = 2.0 * h_;  // all kernels have compact support 2h
+  CellGrid<D> grid;
+  {
+    ScopedPhase t(timers_, "cell_build");
+    grid = build_cell_grid(p.pos, p.id, support);
+  }
+  {
+    ScopedPhase t(timers_, "neighbour_search");
+    lists_ = build_neighbour_lists(grid, p.pos, support);
+  }
+  with_kernel(kernel_, [&](auto k) {
+    const KernelAt<decltype(k), D> kern(h_);
+    {
+      ScopedPhase t(timers_, "density");
+      compute_density(p, lists_, kern);
+    }
+    {
+      ScopedPhase t(timers_, "velocity_gradient");
+      compute_viscous_stress(p, lists_, kern, phys_);
+    }
+    {
+      ScopedPhase t(timers_, "forces");
+      compute_accelerations(p, lists_, kern, phys_);
+    }
+  });
+  ++evaluations_;
+  pairs_ += lists_.total();
+}
+
+template class RateEvaluator<2>;
+template class RateEvaluator<3>;
+
+}  // namespace sphdisk

@@ -1,0 +1,45 @@
+#pragma once
+// Comparison of a ring snapshot with the analytic solution (P98 sec. 5.3, Fig. 8): particle
+// surface densities averaged in radial bins (50 over 0.05 - 2.05 r0 by default), binned radial
+// velocity, per-particle scatter and L1 errors.
+#include <string>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "io/snapshot.hpp"
+
+namespace sphdisk {
+
+struct RingBin {
+  double r_lo, r_hi;
+  std::size_t count = 0;
+  double sigma_sph = 0;   // mean particle Sigma in the bin
+  double sigma_ana = 0;   // mean analytic Sigma at the same particles' radii (like with like)
+  double vr_sph = 0;      // mean particle v_r
+  double vr_ana = 0;      // mean analytic v_r at the same radii
+  double vr_drift = 0;    // mean guiding-centre drift 2 j (dj/dt) / (G M): v_r without epicycles
+  double sigma_mass = 0;       // particle mass in the annulus / its area
+  double sigma_ana_annulus = 0;  // analytic annulus mean of Sigma
+};
+
+struct RingComparison {
+  double tau = 0;
+  std::size_t particles = 0;
+  std::vector<RingBin> bins;
+  double sigma_l1 = 0;         // sum |<Sigma_sph> - <Sigma_ana>| / sum <Sigma_ana> over populated bins
+  double vr_l1 = 0;            // sum n_b |<v_r> - <v_r,ana>| / sum n_b |<v_r,ana>| (n_b: particles in
+                               // bin b) over bins where |<v_r,ana>| >= 20% of its maximum
+  double vr_drift_l1 = 0;      // same for the guiding-centre drift velocity
+  double mass_sigma_l1 = 0;    // annulus mass / area against the analytic annulus means
+  double sigma_scatter = 0;    // rms of Sigma_i / Sigma_ana(r_i) - 1 over particles with Sigma_ana > 1% of peak
+  double mass = 0;             // mass in the particles
+  double accreted_mass = 0;
+};
+
+RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0.05,
+                            double r_max = 2.05);
+
+std::string ring_comparison_table(const RingComparison& c);
+std::string ring_comparison_json(const RingComparison& c);
+
+}  // namespace sphdisk

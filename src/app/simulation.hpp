@@ -1,0 +1,28 @@
+#pragma once
+// The simulation driver: sets up the run, then advances it step by step, writing snapshots at
+// the requested viscous times, a diagnostics row per step and a progress line with ETA.
+#include <string>
+
+#include "core/config.hpp"
+
+namespace sphdisk {
+
+struct RunOptions {
+  std::string output_dir;   // overrides output.dir when not empty
+  bool overwrite = false;   // allow replacing outputs of an earlier run in the same directory
+  std::string trace_file;   // Chrome trace JSON, "" for none
+  bool quiet = false;       // no progress lines
+};
+
+struct RunSummary {
+  long long steps = 0;
+  std::size_t evaluations = 0;
+  std::size_t particles_final = 0;
+  double wall_seconds = 0;
+  double particle_updates_per_second = 0;  // particles x rate evaluations / wall time
+  std::string output_dir;
+};
+
+RunSummary run_simulation(const Config& cfg, const RunOptions& opts);
+
+}  // namespace sphdisk

@@ -1,0 +1,297 @@
+#include "core/config.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+// One declared key: how to check a TOML node and store it in Config.
+struct KeyDef {
+  std::string name;  // "section.key"
+  std::string type_help;
+  std::string help;
+  // Returns an error text (what is allowed) or "" if the node is valid; stores it on success.
+  std::function<std::string(const toml::node&, Config&)> apply;
+  std::function<std::string(const Config&)> current;  // value as TOML text
+};
+
+std::string toml_text(double v) {
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back exactly
+  std::string s(buf, res.ptr);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+std::string toml_text(long long v) { return std::to_string(v); }
+std::string toml_text(bool v) { return v ? "true" : "false"; }
+std::string toml_text(const std::string& v) {
+  std::string out = "\"";
+  for (char c : v) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+std::string toml_text(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t k = 0; k < v.size(); ++k) s += (k ? ", " : "") + toml_text(v[k]);
+  return s + "]";
+}
+
+using Check = std::function<std::string(double)>;
+
+Check positive() { return [](double v) { return v > 0 ? "" : "must be > 0"; }; }
+Check non_negative() { return [](double v) { return v >= 0 ? "" : "must be >= 0"; }; }
+Check in_range(double lo, double hi) {
+  return [lo, hi](double v) {
+    return v >= lo && v <= hi ? std::string() : "must be in [" + toml_text(lo) + ", " + toml_text(hi) + "]";
+  };
+}
+
+KeyDef float_key(std::string name, double Config::*m, Check check, std::string help) {
+  return {name, "number", std::move(help),
+          [m, check](const toml::node& n, Config& c) -> std::string {
+            if (!n.is_number()) return "must be a number";
+            const double v = *n.value<double>();
+            if (!std::isfinite(v)) return "must be a finite number";
+            if (auto e = check(v); !e.empty()) return e;
+            c.*m = v;
+            return "";
+          },
+          [m](const Config& c) { return toml_text(c.*m); }};
+}
+
+template <class Int>
+KeyDef int_key(std::string name, Int Config::*m, long long lo, long long hi, std::string help) {
+  return {name, "integer", std::move(help),
+          [m, lo, hi](const toml::node& n, Config& c) -> std::string {
+            if (!n.is_integer()) return "must be an integer";
+            const long long v = *n.value<long long>();
+            if (v < lo || v > hi) return "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+            c.*m = static_cast<Int>(v);
+            return "";
+          },
+          [m](const Config& c) { return toml_text(static_cast<long long>(c.*m)); }};
+}
+
+KeyDef bool_key(std::string name, bool Config::*m, std::string help) {
+  return {name, "boolean", std::move(help),
+          [m](const toml::node& n, Config& c) -> std::string {
+            if (!n.is_boolean()) return "must be true or false";
+            c.*m = *n.value<bool>();
+            return "";
+          },
+          [m](const Config& c) { return toml_text(c.*m); }};
+}
+
+KeyDef string_key(std::string name, std::string Config::*m, std::vector<std::string> allowed, std::string help) {
+  return {name, "string", std::move(help),
+          [m, allowed](const toml::node& n, Config& c) -> std::string {
+            if (!n.is_string()) return "must be a string";
+            const std::string v = *n.value<std::string>();
+            if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end()) {
+              std::string e = "must be one of";
+              for (const auto& a : allowed) e += " \"" + a + "\"";
+              return e;
+            }
+            c.*m = v;
+            return "";
+          },
+          [m](const Config& c) { return toml_text(c.*m); }};
+}
+
+KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std::string help) {
+  return {name, "list of numbers", std::move(help),
+          [m](const toml::node& n, Config& c) -> std::string {
+            const toml::array* a = n.as_array();
+            if (!a || a->empty()) return "must be a non-empty list of numbers, e.g. [0.036, 0.09]";
+            std::vector<double> v;
+            for (const auto& e : *a) {
+              if (!e.is_number()) return "must be a list of numbers";
+              v.push_back(*e.value<double>());
+              if (!std::isfinite(v.back())) return "must hold finite numbers";
+              if (v.size() > 1 && !(v.back() > v[v.size() - 2])) return "must be strictly increasing";
+            }
+            c.*m = v;
+            return "";
+          },
+          [m](const Config& c) { return toml_text(c.*m); }};
+}
+
+const std::vector<KeyDef>& schema() {
+  static const std::vector<KeyDef> keys = {
+      string_key("problem.type", &Config::problem, {"ring"}, "set-up: the viscously spreading ring (P98 sec. 5)"),
+      int_key("problem.particles", &Config::particles, 1, 2'000'000'000, "number of SPH particles N"),
+      int_key("problem.seed", &Config::seed, 0, (1LL << 62), "seed of the random particle placement (same seed, same particles)"),
+      float_key("problem.ring_radius", &Config::ring_radius, positive(), "initial ring radius r0 in solar radii (the code length unit)"),
+      float_key("problem.disc_mass", &Config::disc_mass, positive(), "disc mass m in solar masses"),
+      float_key("problem.tau_start", &Config::tau_start, positive(), "viscous time tau = 12 nu t / r0^2 of the initial conditions"),
+      string_key("problem.placement", &Config::placement, {"random", "stratified"}, "radii drawn at random, or stratified (low noise)"),
+      string_key("problem.initial_conditions", &Config::initial_conditions, {}, "HDF5 snapshot to start from (\"\": generate the ring)"),
+      float_key("physics.central_mass", &Config::central_mass, positive(), "central point mass M in solar masses (the code mass unit)"),
+      float_key("physics.viscosity", &Config::viscosity, non_negative(), "kinematic shear viscosity nu in solar radii^2 / s"),
+      float_key("physics.bulk_viscosity", &Config::bulk_viscosity, non_negative(), "kinematic bulk viscosity zeta/rho in solar radii^2 / s"),
+      string_key("physics.eos", &Config::eos, {"none", "isothermal"}, "equation of state (none: pressureless, as in the ring test)"),
+      float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s"),
+      bool_key("physics.evolve_energy", &Config::evolve_energy, "integrate the internal energy (viscous heating)"),
+      float_key("physics.accretion_radius", &Config::accretion_radius, non_negative(), "accretion radius in units of ring_radius"),
+      int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
+      string_key("sph.kernel", &Config::kernel, {"cubic", "wendland_c2", "wendland_c4"}, "smoothing kernel"),
+      float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target mean neighbour number of the initial conditions (sets h)"),
+      float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
+      string_key("integrator.scheme", &Config::scheme, {"leapfrog", "rk23", "rk45"}, "time integrator"),
+      float_key("integrator.tolerance", &Config::tolerance, in_range(1e-14, 0.1), "relative error tolerance per step (rk23, rk45)"),
+      float_key("integrator.orbital_factor", &Config::orbital_factor, in_range(1e-6, 1), "dt <= factor / Omega"),
+      float_key("integrator.force_factor", &Config::force_factor, in_range(1e-6, 1), "dt <= factor sqrt(h / |a|)"),
+      float_key("integrator.viscous_factor", &Config::viscous_factor, in_range(1e-6, 1), "dt <= factor h^2 / nu"),
+      float_key("integrator.courant_factor", &Config::courant_factor, in_range(1e-6, 1), "dt <= factor h / c_s"),
+      float_key("integrator.dt_max", &Config::dt_max, non_negative(), "largest timestep in code units (0: no limit)"),
+      increasing_list_key("output.tau", &Config::output_tau, "viscous times of the snapshots; the run ends at the last"),
+      string_key("output.dir", &Config::output_dir, {}, "output directory"),
+      float_key("output.progress_interval", &Config::progress_interval, non_negative(), "seconds between progress lines (0: none)"),
+      int_key("run.threads", &Config::threads, 0, 4096, "threads (0: OpenMP default, e.g. OMP_NUM_THREADS)"),
+      int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),
+  };
+  return keys;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+[[noreturn]] void unknown_key(const std::string& key, const std::string& where) {
+  std::string best;
+  std::size_t best_d = 1000;
+  for (const auto& k : schema()) {
+    const std::size_t d = edit_distance(key, k.name);
+    if (d < best_d) best_d = d, best = k.name;
+  }
+  std::string msg = where + ": unknown key '" + key + "'";
+  if (best_d <= 4) msg += "; did you mean '" + best + "'?";
+  msg += " (`sphdisk run --help-config` lists all keys)";
+  throw UserError(msg);
+}
+
+// Flattens nested tables into "a.b" keys.
+void flatten(const toml::table& t, const std::string& prefix, std::vector<std::pair<std::string, const toml::node*>>& out) {
+  for (const auto& [k, v] : t) {
+    const std::string name = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = v.as_table())
+      flatten(*sub, name, out);
+    else
+      out.emplace_back(name, &v);
+  }
+}
+
+const KeyDef* find_key(const std::string& name) {
+  for (const auto& k : schema())
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+void apply_node(const std::string& name, const toml::node& node, Config& c, const std::string& where) {
+  const KeyDef* def = find_key(name);
+  if (!def) unknown_key(name, where);
+  if (auto e = def->apply(node, c); !e.empty()) throw UserError(where + ": " + name + " " + e + " (" + def->help + ")");
+}
+
+void check_consistency(const Config& c) {
+  if (c.accretion_radius >= 1.0)
+    throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
+                    " must be < 1 (it is in units of ring_radius: particles inside are removed)");
+  if (c.output_tau.front() <= c.tau_start)
+    throw UserError("config: output.tau must start after problem.tau_start = " + toml_text(c.tau_start) +
+                    " (got " + toml_text(c.output_tau.front()) + ")");
+  if (c.eos == "isothermal" && c.sound_speed <= 0)
+    throw UserError("config: physics.eos = \"isothermal\" needs physics.sound_speed > 0 (km/s)");
+  if (c.dimension != 2)
+    throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
+  if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");
+}
+
+}  // namespace
+
+Config parse_config(const std::string& toml_text_in, const std::string& source_name,
+                    const std::vector<std::string>& overrides) {
+  Config c;
+  toml::table table;
+  try {
+    table = toml::parse(toml_text_in, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw UserError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) +
+                    ": invalid TOML: " + std::string(e.description()));
+  }
+  std::vector<std::pair<std::string, const toml::node*>> entries;
+  flatten(table, "", entries);
+  for (const auto& [name, node] : entries) apply_node(name, *node, c, source_name);
+
+  for (const std::string& o : overrides) {
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw UserError("--set '" + o + "': expected section.key=value, e.g. --set problem.particles=100000");
+    const std::string key = o.substr(0, eq), value = o.substr(eq + 1);
+    toml::table one;
+    try {
+      one = toml::parse("v = " + value);
+    } catch (const toml::parse_error&) {
+      one = toml::table{{"v", value}};  // a bare word is a string: --set integrator.scheme=rk23
+    }
+    apply_node(key, *one.get("v"), c, "--set " + key);
+  }
+  check_consistency(c);
+
+  std::string section;
+  std::ostringstream os;
+  for (const auto& k : schema()) {
+    const std::string sec = k.name.substr(0, k.name.find('.'));
+    if (sec != section) {
+      os << (section.empty() ? "" : "\n") << "[" << sec << "]\n";
+      section = sec;
+    }
+    const std::string v = k.current(c);
+    os << k.name.substr(k.name.find('.') + 1) << " = " << v << "\n";
+    c.resolved.emplace_back(k.name, v);
+  }
+  c.resolved_toml = os.str();
+  return c;
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  std::string text;
+  if (!path.empty()) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw UserError("cannot read configuration file '" + path + "': check the path");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  return parse_config(text, path.empty() ? "defaults" : path, overrides);
+}
+
+std::string config_reference() {
+  std::ostringstream os;
+  const Config defaults;
+  for (const auto& k : schema())
+    os << k.name << " = " << k.current(defaults) << "    # " << k.type_help << ": " << k.help << "\n";
+  return os.str();
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,64 @@
+#pragma once
+// Run configuration: a TOML file plus `--set section.key=value` overrides. Every key is declared
+// once in config.cpp with its type, default, allowed range and help text; unknown keys and invalid
+// values are rejected with a one-line message naming the key and what is allowed. The resolved
+// configuration (every key, defaults filled in) goes into every output.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sphdisk {
+
+struct Config {
+  // [problem]
+  std::string problem = "ring";
+  long long particles = 10000;
+  long long seed = 42;
+  double ring_radius = 1.0;          // solar radii: the length unit r0
+  double disc_mass = 1e-10;          // solar masses
+  double tau_start = 0.018;          // viscous time of the initial conditions (P98 5.2)
+  std::string placement = "random";  // random | stratified
+  std::string initial_conditions;    // HDF5 snapshot to start from instead of generating
+  // [physics]
+  double central_mass = 1.0;       // solar masses: the mass unit M
+  double viscosity = 3e-8;         // kinematic shear viscosity, solar radii^2 / s
+  double bulk_viscosity = 0.0;     // kinematic bulk viscosity, solar radii^2 / s
+  std::string eos = "none";        // none | isothermal
+  double sound_speed = 0.0;        // km/s (isothermal)
+  bool evolve_energy = false;
+  double accretion_radius = 0.05;  // in units of ring_radius
+  // [sph]
+  int dimension = 2;
+  std::string kernel = "cubic";
+  double neighbours = 60;          // target mean neighbour number of the initial conditions
+  double smoothing_length = 0;     // in units of ring_radius; 0: from sph.neighbours
+  // [integrator]
+  std::string scheme = "leapfrog";  // leapfrog | rk23 | rk45
+  double tolerance = 1e-6;
+  double orbital_factor = 0.25, force_factor = 0.25, viscous_factor = 0.1, courant_factor = 0.3;
+  double dt_max = 0;               // code units; 0: no limit
+  // [output]
+  std::vector<double> output_tau = {0.036, 0.054, 0.072, 0.090, 0.126};
+  std::string output_dir = "runs/ring";
+  double progress_interval = 5.0;  // seconds between progress lines; 0: none
+  // [run]
+  int threads = 0;                 // 0: OpenMP default
+  long long max_steps = 0;         // 0: no limit
+
+  std::string resolved_toml;       // every key = value, for outputs
+  // (key, value as TOML text) for every key, in declaration order (for HDF5 /Parameters)
+  std::vector<std::pair<std::string, std::string>> resolved;
+};
+
+// Loads `path` (may be empty: defaults only) and applies overrides "section.key=value".
+// Throws UserError with a one-line message on any problem.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides);
+
+// Parses TOML text (used by load_config and the fuzz target).
+Config parse_config(const std::string& toml_text, const std::string& source_name,
+                    const std::vector<std::string>& overrides);
+
+// All keys with their help text, for `sphdisk run --help-config`.
+std::string config_reference();
+
+}  // namespace sphdisk

@@ -1,0 +1,96 @@
+#pragma once
+// Particle storage as a structure of arrays, generated from ONE field table. The same table drives
+// reordering, snapshot output, checkpoints and (later) MPI packing, so no list of fields is ever
+// kept in step with the storage by hand.
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "core/vec.hpp"
+
+namespace sphdisk {
+
+enum FieldFlag : unsigned {
+  kSnapshot = 1u << 0,    // written to every snapshot (GADGET/SWIFT dataset name given in the table)
+  kCheckpoint = 1u << 1,  // needed to restart bit-for-bit
+  kEnergyOnly = 1u << 2,  // only meaningful when internal energy is evolved
+};
+
+enum class FieldKind { Id, Scalar, Vector, Tensor };
+
+// name, kind, snapshot dataset name, flags, unit dimension (length, mass, time exponents) for output.
+// clang-format off
+#define SPHDISK_PARTICLE_FIELDS(X)                                                              \
+  X(id,    Id,     "ParticleIDs",        kSnapshot | kCheckpoint,               0,  0,  0)     \
+  X(mass,  Scalar, "Masses",             kSnapshot | kCheckpoint,               0,  1,  0)     \
+  X(pos,   Vector, "Coordinates",        kSnapshot | kCheckpoint,               1,  0,  0)     \
+  X(vel,   Vector, "Velocities",         kSnapshot | kCheckpoint,               1,  0, -1)     \
+  X(u,     Scalar, "InternalEnergy",     kSnapshot | kCheckpoint | kEnergyOnly, 2,  0, -2)     \
+  X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint,               1,  0,  0)     \
+  X(rho,   Scalar, "Density",            kSnapshot,                            -2,  1,  0)     \
+  X(stress, Tensor, "KinematicStress",   0,                                     2,  0, -1)     \
+  X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
+  X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)
+// clang-format on
+// Density is the surface density in 2D (mass / length^2); in 3D its length exponent is -3 (see
+// field_length_exponent below).
+
+template <int D>
+struct FieldTypes {
+  using Id = std::uint64_t;
+  using Scalar = double;
+  using Vector = Vec<D>;
+  using Tensor = Mat<D>;
+};
+
+struct FieldInfo {
+  std::string_view name;
+  FieldKind kind;
+  std::string_view dataset;
+  unsigned flags;
+  int length_exp, mass_exp, time_exp;
+};
+
+template <int D>
+struct Particles {
+#define SPHDISK_DECLARE_FIELD(name, kind, ds, flags, l, m, t) \
+  std::vector<typename FieldTypes<D>::kind> name;
+  SPHDISK_PARTICLE_FIELDS(SPHDISK_DECLARE_FIELD)
+#undef SPHDISK_DECLARE_FIELD
+
+  std::size_t size() const { return id.size(); }
+
+  // Calls f(info, field_vector) for every field in table order.
+  template <class F>
+  void for_each_field(F&& f) {
+#define SPHDISK_VISIT_FIELD(name_, kind_, ds_, flags_, l_, m_, t_) \
+  f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_);
+    SPHDISK_PARTICLE_FIELDS(SPHDISK_VISIT_FIELD)
+  }
+  template <class F>
+  void for_each_field(F&& f) const {
+    SPHDISK_PARTICLE_FIELDS(SPHDISK_VISIT_FIELD)
+#undef SPHDISK_VISIT_FIELD
+  }
+
+  void resize(std::size_t n) {
+    for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
+  }
+
+  // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices).
+  void gather(const std::vector<std::uint32_t>& order) {
+    for_each_field([&order](const FieldInfo&, auto& v) {
+      std::remove_reference_t<decltype(v)> out(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i) out[i] = v[order[i]];
+      v.swap(out);
+    });
+  }
+
+ private:
+  // Density is per area in 2D, per volume in 3D.
+  static constexpr int field_length_exp(int l, FieldKind, std::string_view ds) {
+    return ds == std::string_view("Density") ? -D : l;
+  }
+};
+
+}  // namespace sphdisk

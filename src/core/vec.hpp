@@ -1,0 +1,76 @@
+#pragma once
+// Small fixed-size vectors and matrices for D = 2 or 3 dimensions. The dimension is a template
+// parameter everywhere in the physics so that 3D is an instantiation, not a rewrite.
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace sphdisk {
+
+template <int D>
+struct Vec {
+  std::array<double, D> c{};
+  constexpr double& operator[](int k) { return c[static_cast<std::size_t>(k)]; }
+  constexpr double operator[](int k) const { return c[static_cast<std::size_t>(k)]; }
+  constexpr Vec& operator+=(const Vec& o) {
+    for (int k = 0; k < D; ++k) (*this)[k] += o[k];
+    return *this;
+  }
+  constexpr Vec& operator-=(const Vec& o) {
+    for (int k = 0; k < D; ++k) (*this)[k] -= o[k];
+    return *this;
+  }
+  constexpr Vec& operator*=(double s) {
+    for (int k = 0; k < D; ++k) (*this)[k] *= s;
+    return *this;
+  }
+  friend constexpr Vec operator+(Vec a, const Vec& b) { return a += b; }
+  friend constexpr Vec operator-(Vec a, const Vec& b) { return a -= b; }
+  friend constexpr Vec operator*(Vec a, double s) { return a *= s; }
+  friend constexpr Vec operator*(double s, Vec a) { return a *= s; }
+  friend constexpr bool operator==(const Vec&, const Vec&) = default;
+};
+
+template <int D>
+constexpr double dot(const Vec<D>& a, const Vec<D>& b) {
+  double s = 0;
+  for (int k = 0; k < D; ++k) s += a[k] * b[k];
+  return s;
+}
+template <int D>
+constexpr double norm2(const Vec<D>& a) { return dot(a, a); }
+template <int D>
+inline double norm(const Vec<D>& a) { return std::sqrt(norm2(a)); }
+
+// Row-major D x D matrix; m(a, b) is the component alpha = a, beta = b of a tensor.
+template <int D>
+struct Mat {
+  std::array<double, D * D> c{};
+  constexpr double& operator()(int a, int b) { return c[static_cast<std::size_t>(a * D + b)]; }
+  constexpr double operator()(int a, int b) const { return c[static_cast<std::size_t>(a * D + b)]; }
+  constexpr double trace() const {
+    double t = 0;
+    for (int k = 0; k < D; ++k) t += (*this)(k, k);
+    return t;
+  }
+  friend constexpr bool operator==(const Mat&, const Mat&) = default;
+};
+
+// t . v with t_ab v_b (Einstein summation over b).
+template <int D>
+constexpr Vec<D> contract(const Mat<D>& t, const Vec<D>& v) {
+  Vec<D> r;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) r[a] += t(a, b) * v[b];
+  return r;
+}
+
+// Double contraction s_ab v_ab.
+template <int D>
+constexpr double double_dot(const Mat<D>& s, const Mat<D>& v) {
+  double r = 0;
+  for (std::size_t k = 0; k < s.c.size(); ++k) r += s.c[k] * v.c[k];
+  return r;
+}
+
+}  // namespace sphdisk

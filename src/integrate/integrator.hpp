@@ -1,0 +1,43 @@
+#pragma once
+// Time integrators. Both advance (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
+//  - KDK leapfrog (default): second order, symplectic for the gravity part; no secular radial drift
+//    of Kepler orbits (physics.md sec. 3, "accuracy trap").
+//  - embedded explicit Runge-Kutta with error control (the paper's "error tolerance of the time
+//    integrator", P98 sec. 5.3): Bogacki-Shampine 3(2) or Dormand-Prince 5(4).
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "app/rate_evaluator.hpp"
+#include "integrate/timestep.hpp"
+
+namespace sphdisk {
+
+enum class Scheme { Leapfrog, RK23, RK45 };
+Scheme scheme_from_name(const std::string& name);
+
+struct IntegratorParams {
+  Scheme scheme = Scheme::Leapfrog;
+  double tolerance = 1e-6;  // RK only: relative error per step in positions and velocities
+  TimestepFactors factors;
+  double dt_max = std::numeric_limits<double>::infinity();
+};
+
+template <int D>
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // Computes the rates of the initial state.
+  virtual void start(Particles<D>& p) = 0;
+  // Advances by one step of at most dt_cap; returns the step taken (hits dt_cap exactly when it
+  // is the binding limit, so outputs fall on their times).
+  virtual double step(Particles<D>& p, double dt_cap) = 0;
+  virtual std::size_t rejected_steps() const { return 0; }
+  // Between steps all per-particle state lives in Particles (acc and du_dt are checkpointed), so
+  // particles may be removed or reordered freely between calls.
+};
+
+template <int D>
+std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateEvaluator<D>& rates);
+
+}  // namespace sphdisk

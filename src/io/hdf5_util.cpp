@@ -1,0 +1,158 @@
+#include "io/hdf5_util.hpp"
+
+#include "core/error.hpp"
+
+namespace sphdisk::h5 {
+
+namespace {
+[[noreturn]] void fail(const std::string& what) { throw UserError(what); }
+
+// Object creation properties without modification times, so that identical data give
+// byte-identical files (checked by the thread- and rank-independence tests).
+Handle untimed(hid_t cls) {
+  Handle p(H5Pcreate(cls), H5Pclose);
+  H5Pset_obj_track_times(p, false);
+  return p;
+}
+
+void write_attr_raw(hid_t obj, const std::string& name, hid_t type, const void* data, hsize_t n, bool scalar) {
+  silence_errors();
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Handle space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Handle attr(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attr.valid() || H5Awrite(attr, type, data) < 0) fail("HDF5: cannot write attribute '" + name + "'");
+}
+}  // namespace
+
+void silence_errors() {
+  static const bool done = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)done;
+}
+
+Handle create_file(const std::string& path) {
+  silence_errors();
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!f.valid()) fail("cannot create HDF5 file '" + path + "': check that the directory exists and is writable");
+  return f;
+}
+
+Handle open_file_readonly(const std::string& path) {
+  silence_errors();
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    fail("cannot open '" + path + "' as an HDF5 file: it is missing, unreadable, truncated or not HDF5");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!f.valid()) fail("cannot open HDF5 file '" + path + "': it is unreadable or corrupt");
+  return f;
+}
+
+Handle create_group(hid_t parent, const std::string& name) {
+  Handle g(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, untimed(H5P_GROUP_CREATE), H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) fail("HDF5: cannot create group '" + name + "'");
+  return g;
+}
+
+bool exists(hid_t parent, const std::string& name) {
+  silence_errors();
+  return H5Lexists(parent, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+Handle open_group(hid_t parent, const std::string& name, const std::string& file) {
+  if (!exists(parent, name)) fail("'" + file + "' has no group '" + name + "': not a snapshot in the sphdisk/GADGET layout");
+  Handle g(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) fail("'" + file + "': cannot open group '" + name + "' (file corrupt?)");
+  return g;
+}
+
+void write_attr(hid_t obj, const std::string& name, double v) { write_attr_raw(obj, name, H5T_NATIVE_DOUBLE, &v, 1, true); }
+void write_attr(hid_t obj, const std::string& name, long long v) { write_attr_raw(obj, name, H5T_NATIVE_LLONG, &v, 1, true); }
+void write_attr(hid_t obj, const std::string& name, const std::vector<double>& v) {
+  write_attr_raw(obj, name, H5T_NATIVE_DOUBLE, v.data(), v.size(), false);
+}
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::uint32_t>& v) {
+  write_attr_raw(obj, name, H5T_NATIVE_UINT32, v.data(), v.size(), false);
+}
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::uint64_t>& v) {
+  write_attr_raw(obj, name, H5T_NATIVE_UINT64, v.data(), v.size(), false);
+}
+void write_attr(hid_t obj, const std::string& name, const std::string& v) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, v.empty() ? 1 : v.size());
+  H5Tset_strpad(type, H5T_STR_NULLPAD);
+  write_attr_raw(obj, name, type, v.empty() ? "" : v.data(), 1, true);
+}
+
+bool has_attr(hid_t obj, const std::string& name) {
+  silence_errors();
+  return H5Aexists(obj, name.c_str()) > 0;
+}
+
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file) {
+  if (!has_attr(obj, name)) fail("'" + file + "' lacks the attribute '" + name + "'");
+  Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
+  Handle space(H5Aget_space(attr), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (n <= 0 || n > (1 << 20)) fail("'" + file + "': attribute '" + name + "' has an invalid size");
+  std::vector<double> v(static_cast<std::size_t>(n));
+  if (H5Aread(attr, H5T_NATIVE_DOUBLE, v.data()) < 0) fail("'" + file + "': attribute '" + name + "' is not numeric");
+  return v;
+}
+
+double read_attr_double(hid_t obj, const std::string& name, const std::string& file) {
+  return read_attr_doubles(obj, name, file).front();
+}
+
+void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
+  Handle ds(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
+  if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    fail("HDF5: cannot write dataset '" + name + "' (disk full?)");
+}
+
+void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows) {
+  const hsize_t dims[1] = {rows};
+  Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  Handle ds(H5Dcreate2(group, name.c_str(), H5T_STD_U64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
+  if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    fail("HDF5: cannot write dataset '" + name + "' (disk full?)");
+}
+
+namespace {
+Handle open_dataset_shape(hid_t group, const std::string& name, const std::string& file, std::size_t& rows, std::size_t& cols) {
+  if (!exists(group, name)) fail("'" + file + "' has no dataset '" + name + "'");
+  Handle ds(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!ds.valid()) fail("'" + file + "': cannot open dataset '" + name + "' (file corrupt?)");
+  Handle space(H5Dget_space(ds), H5Sclose);
+  hsize_t dims[2] = {0, 1};
+  const int rank = H5Sget_simple_extent_ndims(space);
+  if (rank < 1 || rank > 2) fail("'" + file + "': dataset '" + name + "' must be 1-D or 2-D");
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  rows = dims[0];
+  cols = rank == 2 ? dims[1] : 1;
+  return ds;
+}
+}  // namespace
+
+std::vector<double> read_dataset_doubles(hid_t group, const std::string& name, const std::string& file,
+                                         std::size_t& rows, std::size_t& cols) {
+  Handle ds = open_dataset_shape(group, name, file, rows, cols);
+  std::vector<double> v(rows * cols);
+  if (!v.empty() && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    fail("'" + file + "': cannot read dataset '" + name + "' (truncated or corrupt file?)");
+  return v;
+}
+
+std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file) {
+  std::size_t rows, cols;
+  Handle ds = open_dataset_shape(group, name, file, rows, cols);
+  if (cols != 1) fail("'" + file + "': dataset '" + name + "' must be 1-D");
+  std::vector<std::uint64_t> v(rows);
+  if (!v.empty() && H5Dread(ds, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    fail("'" + file + "': cannot read dataset '" + name + "' (truncated or corrupt file?)");
+  return v;
+}
+
+}  // namespace sphdisk::h5

@@ -1,0 +1,68 @@
+#pragma once
+// Thin RAII and attribute helpers over the HDF5 C API. HDF5's own error printing is switched off;
+// failures become UserError with a message naming the file and object.
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sphdisk::h5 {
+
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = -1;
+    return *this;
+  }
+  ~Handle() { reset(); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  hid_t get() const { return id_; }
+  operator hid_t() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  void reset() {
+    if (id_ >= 0 && close_) close_(id_);
+    id_ = -1;
+  }
+
+ private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+void silence_errors();  // turn off HDF5's automatic error stack printing (once per process)
+
+Handle create_file(const std::string& path);
+Handle open_file_readonly(const std::string& path);  // throws UserError naming the path
+Handle create_group(hid_t parent, const std::string& name);
+Handle open_group(hid_t parent, const std::string& name, const std::string& file);  // throws if missing
+bool exists(hid_t parent, const std::string& name);
+
+void write_attr(hid_t obj, const std::string& name, double v);
+void write_attr(hid_t obj, const std::string& name, long long v);
+void write_attr(hid_t obj, const std::string& name, const std::string& v);
+void write_attr(hid_t obj, const std::string& name, const std::vector<double>& v);
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::uint32_t>& v);
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::uint64_t>& v);
+
+bool has_attr(hid_t obj, const std::string& name);
+double read_attr_double(hid_t obj, const std::string& name, const std::string& file);  // throws if missing
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file);
+
+// Datasets of doubles/uint64 with shape rows x cols (cols == 1: a 1-D dataset).
+void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols);
+void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows);
+// Reads a dataset as doubles (or uint64); checks the shape (cols = 0: any second dimension allowed,
+// returned through cols_out).
+std::vector<double> read_dataset_doubles(hid_t group, const std::string& name, const std::string& file,
+                                         std::size_t& rows, std::size_t& cols);
+std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file);
+
+}  // namespace sphdisk::h5

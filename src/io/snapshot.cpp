@@ -1,0 +1,242 @@
+#include "io/snapshot.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+#include "io/hdf5_util.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+void write_parameters(hid_t file, const SnapshotMeta& meta) {
+  h5::Handle g = h5::create_group(file, "Parameters");
+  for (const auto& [key, text] : meta.parameters) {
+    toml::table t;
+    try {
+      t = toml::parse("v = " + text);
+    } catch (const toml::parse_error&) {
+      h5::write_attr(g, key, text);
+      continue;
+    }
+    const toml::node& v = *t.get("v");
+    if (v.is_integer()) h5::write_attr(g, key, static_cast<long long>(*v.value<long long>()));
+    else if (v.is_floating_point()) h5::write_attr(g, key, *v.value<double>());
+    else if (v.is_boolean()) h5::write_attr(g, key, static_cast<long long>(*v.value<bool>()));
+    else if (v.is_string()) h5::write_attr(g, key, *v.value<std::string>());
+    else if (const toml::array* a = v.as_array()) {
+      std::vector<double> xs;
+      for (const auto& e : *a) xs.push_back(e.value<double>().value_or(0.0));
+      h5::write_attr(g, key, xs);
+    }
+  }
+}
+
+void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) {
+  h5::Handle g = h5::create_group(file, "Header");
+  std::vector<std::uint64_t> npart(6, 0);
+  npart[0] = n;
+  std::vector<std::uint32_t> low(6, 0), high(6, 0);
+  low[0] = static_cast<std::uint32_t>(n & 0xffffffffu);
+  high[0] = static_cast<std::uint32_t>(n >> 32);
+  h5::write_attr(g, "NumPart_ThisFile", npart);
+  h5::write_attr(g, "NumPart_Total", low);
+  h5::write_attr(g, "NumPart_Total_HighWord", high);
+  h5::write_attr(g, "MassTable", std::vector<double>(6, 0.0));
+  h5::write_attr(g, "Time", meta.time);
+  h5::write_attr(g, "Redshift", 0.0);
+  // Open boundaries; readers such as yt divide by BoxSize, so it must be > 0: the extent of
+  // the particles (|x| <= BoxSize / 2 around the central mass).
+  h5::write_attr(g, "BoxSize", meta.box_size > 0 ? meta.box_size : 1.0);
+  h5::write_attr(g, "NumFilesPerSnapshot", 1LL);
+  // Non-cosmological run: GADGET readers (yt) expect these keys.
+  h5::write_attr(g, "Omega0", 0.0);
+  h5::write_attr(g, "OmegaLambda", 0.0);
+  h5::write_attr(g, "HubbleParam", 1.0);
+  h5::write_attr(g, "Flag_DoublePrecision", 1LL);
+  h5::write_attr(g, "Dimension", static_cast<long long>(dim));
+  h5::write_attr(g, "Code", std::string("sphdisk"));
+  h5::write_attr(g, "ViscousTime", meta.tau);
+  h5::write_attr(g, "KinematicViscosity", meta.viscosity);
+  h5::write_attr(g, "RingRadius", meta.ring_radius);
+  h5::write_attr(g, "DiskMass", meta.disc_mass);
+  h5::write_attr(g, "AccretedMass", meta.accreted_mass);
+  h5::write_attr(g, "AccretedAngularMomentum", meta.accreted_angular_momentum);
+  h5::write_attr(g, "Step", meta.step);
+}
+
+void write_units(hid_t file, const UnitSystem& u) {
+  h5::Handle g = h5::create_group(file, "Units");
+  h5::write_attr(g, "UnitLength_in_cm", u.length_cm);
+  h5::write_attr(g, "UnitMass_in_g", u.mass_g);
+  h5::write_attr(g, "UnitTime_in_s", u.time_s);
+  h5::write_attr(g, "UnitVelocity_in_cm_per_s", u.velocity_cm_per_s());
+}
+
+template <class T>
+std::vector<T> in_id_order(const std::vector<T>& v, const std::vector<std::size_t>& order) {
+  std::vector<T> out(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) out[k] = v[order[k]];
+  return out;
+}
+
+}  // namespace
+
+void publish_file(const std::string& tmp_path, const std::string& final_path) {
+  const int fd = ::open(tmp_path.c_str(), O_RDONLY);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    if (fd >= 0) ::close(fd);
+    std::remove(tmp_path.c_str());
+    throw UserError("cannot flush '" + tmp_path + "' to disk (disk full or I/O error)");
+  }
+  ::close(fd);
+  if (std::rename(tmp_path.c_str(), final_path.c_str()) != 0) {
+    std::remove(tmp_path.c_str());
+    throw UserError("cannot rename '" + tmp_path + "' to '" + final_path + "'");
+  }
+  const std::string dir = std::filesystem::path(final_path).parent_path().string();
+  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+template <int D>
+void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta) {
+  const std::string tmp = path + ".tmp";
+  const std::size_t n = p.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  try {
+    h5::Handle file = h5::create_file(tmp);
+    SnapshotMeta m = meta;
+    for (const auto& x : p.pos)
+      for (int c = 0; c < D; ++c) m.box_size = std::max(m.box_size, 2.0 * std::abs(x[c]));
+    write_header(file, n, D, m);
+    write_units(file, meta.units);
+    write_parameters(file, meta);
+    h5::Handle g = h5::create_group(file, "PartType0");
+    p.for_each_field([&](const FieldInfo& info, const auto& field) {
+      if (!(info.flags & kSnapshot) || ((info.flags & kEnergyOnly) && !meta.energy)) return;
+      const auto sorted = in_id_order(field, order);
+      using T = typename std::decay_t<decltype(field)>::value_type;
+      const std::string name(info.dataset);
+      if constexpr (std::is_same_v<T, std::uint64_t>) {
+        h5::write_dataset(g, name, sorted.data(), n);
+      } else if constexpr (std::is_same_v<T, double>) {
+        h5::write_dataset(g, name, sorted.data(), n, 1);
+      } else if constexpr (std::is_same_v<T, Vec<D>>) {
+        std::vector<double> xyz(3 * n, 0.0);  // always N x 3 (z = 0 in 2D), as GADGET readers expect
+        for (std::size_t k = 0; k < n; ++k)
+          for (int c = 0; c < D; ++c) xyz[3 * k + static_cast<std::size_t>(c)] = sorted[k][c];
+        h5::write_dataset(g, name, xyz.data(), n, 3);
+      } else {
+        std::vector<double> flat(n * D * D);
+        for (std::size_t k = 0; k < n; ++k)
+          std::copy(sorted[k].c.begin(), sorted[k].c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * D * D));
+        h5::write_dataset(g, name, flat.data(), n, D * D);
+      }
+    });
+    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("cannot flush '" + tmp + "' (disk full?)");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  publish_file(tmp, path);
+}
+
+template <int D>
+Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
+  h5::Handle file = h5::open_file_readonly(path);
+  h5::Handle header = h5::open_group(file, "Header", path);
+  meta.time = h5::read_attr_double(header, "Time", path);
+  auto optional = [&](const char* name, double fallback) {
+    return h5::has_attr(header, name) ? h5::read_attr_double(header, name, path) : fallback;
+  };
+  meta.tau = optional("ViscousTime", -1);
+  meta.accreted_mass = optional("AccretedMass", 0);
+  meta.accreted_angular_momentum = optional("AccretedAngularMomentum", 0);
+  meta.step = static_cast<long long>(optional("Step", 0));
+
+  // Scale factors from file units to code units; without /Units the file is taken as code units.
+  double fl = 1, fm = 1, ft = 1;
+  if (code_units && h5::exists(file, "Units")) {
+    h5::Handle u = h5::open_group(file, "Units", path);
+    fl = h5::read_attr_double(u, "UnitLength_in_cm", path) / code_units->length_cm;
+    fm = h5::read_attr_double(u, "UnitMass_in_g", path) / code_units->mass_g;
+    ft = h5::read_attr_double(u, "UnitTime_in_s", path) / code_units->time_s;
+    if (!(fl > 0 && fm > 0 && ft > 0 && std::isfinite(fl * fm * ft)))
+      throw UserError("'" + path + "': /Units holds non-positive or non-finite values");
+  }
+  meta.time *= ft;
+  meta.viscosity = optional("KinematicViscosity", 0) * fl * fl / ft;
+  meta.ring_radius = optional("RingRadius", 1) * fl;
+  meta.disc_mass = optional("DiskMass", 0) * fm;
+  meta.accreted_mass *= fm;
+  meta.accreted_angular_momentum *= fm * fl * fl / ft;
+
+  h5::Handle g = h5::open_group(file, "PartType0", path);
+  Particles<D> p;
+  const std::vector<std::uint64_t> ids = h5::read_dataset_u64(g, "ParticleIDs", path);
+  const std::size_t n = ids.size();
+  p.resize(n);
+  p.id = ids;
+  meta.energy = h5::exists(g, "InternalEnergy");
+  p.for_each_field([&](const FieldInfo& info, auto& field) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    if constexpr (!std::is_same_v<T, std::uint64_t>) {
+      if (!(info.flags & kSnapshot)) return;
+      const std::string name(info.dataset);
+      const bool required = name == "Coordinates" || name == "Velocities" || name == "Masses";
+      if (!h5::exists(g, name)) {
+        if (required) throw UserError("'" + path + "' has no dataset PartType0/" + name + ", which initial conditions need");
+        return;
+      }
+      std::size_t rows, cols;
+      const std::vector<double> raw = h5::read_dataset_doubles(g, name, path, rows, cols);
+      if (rows != n)
+        throw UserError("'" + path + "': PartType0/" + name + " has " + std::to_string(rows) + " rows but ParticleIDs has " + std::to_string(n));
+      const double scale = std::pow(fl, info.length_exp) * std::pow(fm, info.mass_exp) * std::pow(ft, info.time_exp);
+      for (double v : raw)
+        if (!std::isfinite(v)) throw UserError("'" + path + "': PartType0/" + name + " contains NaN or Inf");
+      if constexpr (std::is_same_v<T, double>) {
+        if (cols != 1) throw UserError("'" + path + "': PartType0/" + name + " must be 1-D");
+        for (std::size_t k = 0; k < n; ++k) field[k] = raw[k] * scale;
+      } else if constexpr (std::is_same_v<T, Vec<D>>) {
+        if (cols != 3 && cols != static_cast<std::size_t>(D))
+          throw UserError("'" + path + "': PartType0/" + name + " must have 3 or " + std::to_string(D) + " columns");
+        for (std::size_t k = 0; k < n; ++k) {
+          for (int c = 0; c < D; ++c) field[k][c] = raw[k * cols + static_cast<std::size_t>(c)] * scale;
+          for (std::size_t c = D; c < cols; ++c)
+            if (raw[k * cols + c] != 0.0)
+              throw UserError("'" + path + "': PartType0/" + name + " has non-zero z components but the run is " + std::to_string(D) + "D");
+        }
+      }
+    }
+  });
+  // IDs must be unique: they label particles through the run.
+  std::vector<std::uint64_t> sorted = ids;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    throw UserError("'" + path + "': ParticleIDs are not unique");
+  for (double m : p.mass)
+    if (!(m > 0)) throw UserError("'" + path + "': PartType0/Masses must be positive");
+  return p;
+}
+
+template void write_snapshot(const std::string&, const Particles<2>&, const SnapshotMeta&);
+template void write_snapshot(const std::string&, const Particles<3>&, const SnapshotMeta&);
+template Particles<2> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&);
+template Particles<3> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&);
+
+}  // namespace sphdisk

@@ -1,0 +1,42 @@
+#pragma once
+// HDF5 snapshots in the GADGET-4 / SWIFT layout of shared/design/formats.md, read by yt, SPLASH and
+// h5py tools. Datasets come from the particle field table (fields flagged kSnapshot); particles
+// are written in ID order, so the file does not depend on memory order, threads or ranks.
+// Files are written atomically: to a temporary name, flushed to disk, then renamed.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "core/units.hpp"
+
+namespace sphdisk {
+
+struct SnapshotMeta {
+  double time = 0;                 // code units
+  double tau = 0;                  // viscous time 12 nu t / r0^2 (ring runs)
+  double viscosity = 0;            // nu, code units
+  double ring_radius = 1;          // r0, code units
+  double disc_mass = 0;            // initial disc mass, code units
+  double accreted_mass = 0;        // code units
+  double accreted_angular_momentum = 0;
+  long long step = 0;
+  double box_size = 0;             // set by the writer from the particle extent
+  bool energy = false;             // InternalEnergy written / present
+  UnitSystem units{1, 1, 1};
+  std::vector<std::pair<std::string, std::string>> parameters;  // resolved config (key, TOML text)
+};
+
+template <int D>
+void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta);
+
+// Reads a snapshot. With code_units given and a /Units group in the file, values are converted to
+// those code units; with nullptr (or no /Units) they are kept as stored. Throws UserError naming
+// what is wrong.
+template <int D>
+Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta);
+
+// Atomic publication: fsync(tmp) then rename(tmp, final) and fsync of the directory.
+void publish_file(const std::string& tmp_path, const std::string& final_path);
+
+}  // namespace sphdisk

@@ -1,0 +1,120 @@
+#include "neighbours/cell_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "parallel/loops.hpp"
+
+namespace sphdisk {
+
+template <int D>
+int CellGrid<D>::coord(double x, int k) const {
+  const double c = std::floor((x - lo[k]) / cell_size);
+  if (!(c >= 0)) return 0;  // also catches NaN
+  return c >= dims[static_cast<std::size_t>(k)] ? dims[static_cast<std::size_t>(k)] - 1 : static_cast<int>(c);
+}
+
+template <int D>
+std::size_t CellGrid<D>::linear(const std::array<int, D>& c) const {
+  std::size_t idx = 0;
+  for (int k = D - 1; k >= 0; --k)
+    idx = idx * static_cast<std::size_t>(dims[static_cast<std::size_t>(k)]) + static_cast<std::size_t>(c[static_cast<std::size_t>(k)]);
+  return idx;  // x fastest: cells along x are adjacent, so a row of 3 cells is one contiguous range
+}
+
+template <int D>
+std::size_t CellGrid<D>::cell_of(const Vec<D>& x) const {
+  std::array<int, D> c;
+  for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = coord(x[k], k);
+  return linear(c);
+}
+
+template <int D>
+void bounding_box(const std::vector<Vec<D>>& pos, Vec<D>& lo, Vec<D>& hi) {
+  struct Box {
+    Vec<D> lo, hi;
+  };
+  Box init;
+  for (int k = 0; k < D; ++k) {
+    init.lo[k] = std::numeric_limits<double>::max();
+    init.hi[k] = std::numeric_limits<double>::lowest();
+  }
+  const Box b = par::reduce(
+      pos.size(), init, [&](std::size_t i) { return Box{pos[i], pos[i]}; },
+      [](const Box& a, const Box& c) {
+        Box r;
+        for (int k = 0; k < D; ++k) {
+          r.lo[k] = std::min(a.lo[k], c.lo[k]);
+          r.hi[k] = std::max(a.hi[k], c.hi[k]);
+        }
+        return r;
+      });
+  lo = b.lo;
+  hi = b.hi;
+}
+
+template <int D>
+CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
+                            double min_cell_size) {
+  CellGrid<D> g;
+  const std::size_t n = pos.size();
+  Vec<D> hi;
+  if (n == 0) {
+    g.cell_size = min_cell_size;
+    g.dims.fill(1);
+    g.offsets.assign(2, 0);
+    return g;
+  }
+  bounding_box(pos, g.lo, hi);
+  const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
+  g.cell_size = min_cell_size;
+  for (;;) {
+    double ncells = 1;
+    for (int k = 0; k < D; ++k)
+      ncells *= std::floor((hi[k] - g.lo[k]) / g.cell_size) + 1.0;
+    if (ncells <= max_cells) break;
+    g.cell_size *= 1.25;
+  }
+  for (int k = 0; k < D; ++k)
+    g.dims[static_cast<std::size_t>(k)] = static_cast<int>(std::floor((hi[k] - g.lo[k]) / g.cell_size)) + 1;
+
+  std::size_t ncells = 1;
+  for (int d : g.dims) ncells *= static_cast<std::size_t>(d);
+
+  // Counting sort: keys in parallel, histogram and stable scatter serially (O(N), as in P98).
+  std::vector<std::uint32_t> key(n);
+  par::for_each(n, [&](std::size_t i) { key[i] = static_cast<std::uint32_t>(g.cell_of(pos[i])); });
+  g.offsets.assign(ncells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++g.offsets[key[i] + 1];
+  for (std::size_t c = 0; c < ncells; ++c) g.offsets[c + 1] += g.offsets[c];
+  g.sorted.resize(n);
+  {
+    std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) g.sorted[fill[key[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  // Order inside each cell by particle ID (cells hold a handful of particles: insertion sort).
+  par::for_each(ncells, [&](std::size_t c) {
+    auto* first = g.sorted.data() + g.offsets[c];
+    auto* last = g.sorted.data() + g.offsets[c + 1];
+    for (auto* p = first + 1; p < last; ++p) {
+      const std::uint32_t v = *p;
+      auto* q = p;
+      while (q > first && id[*(q - 1)] > id[v]) {
+        *q = *(q - 1);
+        --q;
+      }
+      *q = v;
+    }
+  });
+  return g;
+}
+
+template struct CellGrid<2>;
+template struct CellGrid<3>;
+template CellGrid<2> build_cell_grid(const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, double);
+template CellGrid<3> build_cell_grid(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double);
+template void bounding_box(const std::vector<Vec<2>>&, Vec<2>&, Vec<2>&);
+template void bounding_box(const std::vector<Vec<3>>&, Vec<3>&, Vec<3>&);
+
+}  // namespace sphdisk

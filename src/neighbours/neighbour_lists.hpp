@@ -1,0 +1,29 @@
+#pragma once
+// Per-particle neighbour lists (P98 sec. 4.1, Fig. 2) stored as offsets + indices (CSR). Particle i
+// has neighbours index[offsets[i] .. offsets[i+1]), itself excluded, all j with |x_i - x_j| < radius,
+// in cell order and by ID inside a cell (see cell_grid.hpp): a fixed order, so pair sums give the
+// same bits for any thread count.
+#include <cstdint>
+#include <vector>
+
+#include "core/vec.hpp"
+#include "neighbours/cell_grid.hpp"
+
+namespace sphdisk {
+
+struct NeighbourLists {
+  std::vector<std::size_t> offsets;    // size n + 1
+  std::vector<std::uint32_t> index;
+
+  std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  const std::uint32_t* begin(std::size_t i) const { return index.data() + offsets[i]; }
+  const std::uint32_t* end(std::size_t i) const { return index.data() + offsets[i + 1]; }
+  std::size_t total() const { return index.size(); }
+};
+
+// Requires grid.cell_size >= radius.
+template <int D>
+NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius);
+
+}  // namespace sphdisk

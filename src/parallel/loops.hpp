@@ -1,0 +1,85 @@
+#pragma once
+// The portable parallel layer: the ONLY code that knows about threads. Physics code calls these
+// loops with a per-particle function; whether they run serially or on OpenMP threads is decided
+// here (the paper's DTS idea, sec. 2: physicists write the physics once).
+//
+// Determinism: every loop body writes only its own element, and reductions combine fixed-size
+// blocks in block order, so results are bit-identical for any thread count.
+#include <algorithm>
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+#include "parallel/trace.hpp"
+
+#ifdef SPHDISK_HAVE_OPENMP
+#include <omp.h>
+#endif
+
+namespace sphdisk::par {
+
+int max_threads();
+void set_threads(int n);  // n <= 0: use the runtime default
+int thread_index();
+
+// Loop over [0, n) with dynamic load balancing (chunks handed out on demand, as particles near the
+// ring centre have more neighbours than those in the wings).
+template <class F>
+void for_each(std::size_t n, F&& f, std::string_view trace_label = {}) {
+  const long long nn = static_cast<long long>(n);
+#ifdef SPHDISK_HAVE_OPENMP
+#pragma omp parallel
+  {
+    TraceScope scope(trace_label);
+#pragma omp for schedule(dynamic, 256)
+    for (long long i = 0; i < nn; ++i) f(static_cast<std::size_t>(i));
+  }
+#else
+  TraceScope scope(trace_label);
+  for (long long i = 0; i < nn; ++i) f(static_cast<std::size_t>(i));
+#endif
+}
+
+// Deterministic reduction: blocks of kBlock elements are reduced in index order, then the block
+// partials are combined serially in block order. Same bits for any thread count.
+inline constexpr std::size_t kReduceBlock = 4096;
+
+template <class T, class F, class Op>
+T reduce(std::size_t n, T init, F&& f, Op&& op) {
+  const std::size_t nblocks = (n + kReduceBlock - 1) / kReduceBlock;
+  std::vector<T> partial(nblocks, init);
+  for_each(nblocks, [&](std::size_t b) {
+    T acc = init;
+    const std::size_t end = std::min(n, (b + 1) * kReduceBlock);
+    for (std::size_t i = b * kReduceBlock; i < end; ++i) acc = op(acc, f(i));
+    partial[b] = acc;
+  });
+  T total = init;
+  for (const T& p : partial) total = op(total, p);
+  return total;
+}
+
+template <class T, class F>
+T sum(std::size_t n, F&& f) {
+  return reduce(n, T{}, std::forward<F>(f), [](const T& a, const T& b) { return a + b; });
+}
+
+// Functional fork/join: each task reads its inputs and returns its result; results come back in
+// task order whatever thread ran them (no shared mutable state).
+template <class R, class F>
+std::vector<R> map_tasks(std::size_t ntasks, F&& task) {
+  std::vector<R> out(ntasks);
+#ifdef SPHDISK_HAVE_OPENMP
+#pragma omp parallel
+#pragma omp single
+  for (std::size_t t = 0; t < ntasks; ++t) {
+#pragma omp task firstprivate(t) shared(out, task)
+    out[t] = task(t);
+  }
+#else
+  for (std::size_t t = 0; t < ntasks; ++t) out[t] = task(t);
+#endif
+  return out;
+}
+
+}  // namespace sphdisk::par

@@ -1,0 +1,66 @@
+#pragma once
+// Hydrodynamic accelerations from the stored stresses (P98 eqs. 1, 6, 9) plus point-mass gravity.
+//   viscous:  a_i += sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij                (eq. 6)
+//   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (physics.md 2)
+//             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
+//   gravity:  a_i -= G M x_i / |x_i|^3
+// Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
+// momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
+// Reads: pos, vel, mass, rho, stress, du_dt (heating from viscous_stress.hpp). Writes: acc, du_dt.
+#include <cmath>
+
+#include "core/particles.hpp"
+#include "neighbours/neighbour_lists.hpp"
+#include "parallel/loops.hpp"
+#include "physics/kernels.hpp"
+#include "physics/physics_params.hpp"
+
+namespace sphdisk {
+
+template <int D>
+Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
+  const double r2 = norm2(x);
+  const double r = std::sqrt(r2);
+  return x * (-gm / (r2 * r));
+}
+
+template <class K, int D>
+Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
+                             const KernelAt<K, D>& kern, const PhysicsParams& phys, double& du_dt_pressure) {
+  const Vec<D> xi = p.pos[i], vi = p.vel[i];
+  const double rho_i = p.rho[i];
+  const Mat<D>& Si = p.stress[i];
+  const bool with_pressure = phys.eos != EquationOfState::None;
+  const double Pi_rho2 = with_pressure ? pressure(phys, rho_i) / (rho_i * rho_i) : 0.0;
+  Vec<D> a;
+  double work = 0.0;
+  for (const std::uint32_t* it = nl.begin(i); it != nl.end(i); ++it) {
+    const std::uint32_t j = *it;
+    const Vec<D> dx = xi - p.pos[j];
+    const Vec<D> gradW = dx * kern.dW_over_r(norm(dx));
+    const double mj = p.mass[j], rho_j = p.rho[j];
+    const Mat<D>& Sj = p.stress[j];
+    Mat<D> T;  // m_j (S_i / rho_j + S_j / rho_i)
+    for (std::size_t k = 0; k < T.c.size(); ++k) T.c[k] = mj * (Si.c[k] / rho_j + Sj.c[k] / rho_i);
+    a += contract(T, gradW);
+    if (with_pressure) {
+      const double Pj_rho2 = pressure(phys, rho_j) / (rho_j * rho_j);
+      a -= gradW * (mj * (Pi_rho2 + Pj_rho2));
+      work += mj * dot(vi - p.vel[j], gradW);
+    }
+  }
+  du_dt_pressure = Pi_rho2 * work;
+  return a;
+}
+
+template <class K, int D>
+void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern,
+                           const PhysicsParams& phys) {
+  par::for_each(p.size(), [&](std::size_t i) {
+    double du_pressure = 0.0;
+    p.acc[i] = hydro_acceleration_at(i, p, nl, kern, phys, du_pressure) + point_mass_gravity(p.pos[i], phys.gm);
+    p.du_dt[i] += du_pressure;
+  }, "forces");
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,120 @@
+#pragma once
+// SPH smoothing kernels W(r, h) = sigma_D h^-D w(q), q = r/h, compact support 2h
+// (physics.md sec. 2). Each kernel gives w(q) and w'(q)/q; the latter is what the gradient needs,
+// since grad_i W_ij = (x_i - x_j) / r * dW/dr = (x_i - x_j) sigma_D h^-(D+2) w'(q)/q, and it stays
+// finite at q = 0.
+#include <numbers>
+#include <string_view>
+
+#include "core/error.hpp"
+
+namespace sphdisk {
+
+struct CubicSpline {  // M4 B-spline (Monaghan & Lattanzio 1985)
+  static constexpr std::string_view name = "cubic";
+  static constexpr double w(double q) {
+    if (q < 1.0) return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      return 0.25 * t * t * t;
+    }
+    return 0.0;
+  }
+  static constexpr double dw_over_q(double q) {
+    if (q < 1.0) return 0.75 * (3.0 * q - 4.0);
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      return -0.75 * t * t / q;
+    }
+    return 0.0;
+  }
+  template <int D>
+  static constexpr double sigma() {
+    if constexpr (D == 1) return 2.0 / 3.0;
+    if constexpr (D == 2) return 10.0 / (7.0 * std::numbers::pi);
+    return 1.0 / std::numbers::pi;
+  }
+};
+
+struct WendlandC2 {  // Wendland (1995); no pairing instability (Dehnen & Aly 2012)
+  static constexpr std::string_view name = "wendland_c2";
+  static constexpr double w(double q) {
+    if (q >= 2.0) return 0.0;
+    const double t = 1.0 - 0.5 * q, t2 = t * t;
+    return t2 * t2 * (2.0 * q + 1.0);
+  }
+  static constexpr double dw_over_q(double q) {  // (5/8)(q-2)^3
+    if (q >= 2.0) return 0.0;
+    const double t = q - 2.0;
+    return 0.625 * t * t * t;
+  }
+  template <int D>
+  static constexpr double sigma() {
+    static_assert(D >= 2, "Wendland C2 is defined here for 2D and 3D");
+    if constexpr (D == 2) return 7.0 / (4.0 * std::numbers::pi);
+    return 21.0 / (16.0 * std::numbers::pi);
+  }
+};
+
+struct WendlandC4 {
+  static constexpr std::string_view name = "wendland_c4";
+  static constexpr double w(double q) {
+    if (q >= 2.0) return 0.0;
+    const double t = 1.0 - 0.5 * q, t2 = t * t;
+    return t2 * t2 * t2 * (35.0 / 12.0 * q * q + 3.0 * q + 1.0);
+  }
+  static constexpr double dw_over_q(double q) {  // (7/96)(q-2)^5(5q+2)
+    if (q >= 2.0) return 0.0;
+    const double t = q - 2.0, t2 = t * t;
+    return 7.0 / 96.0 * t2 * t2 * t * (5.0 * q + 2.0);
+  }
+  template <int D>
+  static constexpr double sigma() {
+    static_assert(D >= 2, "Wendland C4 is defined here for 2D and 3D");
+    if constexpr (D == 2) return 9.0 / (4.0 * std::numbers::pi);
+    return 495.0 / (256.0 * std::numbers::pi);
+  }
+};
+
+// A kernel bound to one smoothing length (global and constant, P98 sec. 5.3).
+template <class K, int D>
+struct KernelAt {
+  double h;
+  double inv_h;
+  double w_norm;     // sigma_D / h^D
+  double grad_norm;  // sigma_D / h^(D+2)
+  double support2;   // (2h)^2
+
+  explicit KernelAt(double h_) : h(h_), inv_h(1.0 / h_) {
+    double hd = 1.0;
+    for (int k = 0; k < D; ++k) hd *= h;
+    w_norm = K::template sigma<D>() / hd;
+    grad_norm = w_norm / (h * h);
+    support2 = 4.0 * h * h;
+  }
+  double W(double r) const { return w_norm * K::w(r * inv_h); }
+  // dW/dr / r: multiply by (x_i - x_j) to get grad_i W_ij.
+  double dW_over_r(double r) const { return grad_norm * K::dw_over_q(r * inv_h); }
+};
+
+enum class KernelType { Cubic, WendlandC2, WendlandC4 };
+
+inline KernelType kernel_from_name(std::string_view s) {
+  if (s == CubicSpline::name) return KernelType::Cubic;
+  if (s == WendlandC2::name) return KernelType::WendlandC2;
+  if (s == WendlandC4::name) return KernelType::WendlandC4;
+  throw UserError("unknown kernel '" + std::string(s) + "'; use cubic, wendland_c2 or wendland_c4");
+}
+
+// Calls f(K{}) with the kernel type selected at run time, so inner loops are compiled per kernel.
+template <class F>
+decltype(auto) with_kernel(KernelType t, F&& f) {
+  switch (t) {
+    case KernelType::WendlandC2: return f(WendlandC2{});
+    case KernelType::WendlandC4: return f(WendlandC4{});
+    case KernelType::Cubic: break;
+  }
+  return f(CubicSpline{});
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,32 @@
+#pragma once
+// Initial conditions of the viscously spreading ring (P98 sec. 5.2; physics.md sec. 4): particles
+// "placed stochastically on Kepler orbits" following the analytic surface density at tau_start.
+// Radii come from the inverse CDF of 2 pi r Sigma(r, tau_start) on a fine grid, azimuths are
+// uniform, velocities are Keplerian plus the analytic radial velocity. A seeded generator makes
+// the same particles for the same seed, on any machine (no std:: distributions, whose algorithms
+// are implementation-defined).
+#include <cstdint>
+
+#include "core/particles.hpp"
+#include "problems/ring_analytic.hpp"
+
+namespace sphdisk {
+
+struct RingSetup {
+  RingSolution solution;       // code units: r0 = 1, G M = 1
+  double tau_start = 0.018;
+  std::size_t particles = 10000;
+  std::uint64_t seed = 42;
+  bool stratified = false;     // radii at (k + U)/N quantiles instead of U: low-noise variant
+  double accretion_radius = 0.05;
+};
+
+// The particle set at tau_start (smoothing lengths left at zero).
+Particles<2> make_ring(const RingSetup& s);
+
+// Smoothing length giving `neighbours` mean neighbours (excluding self) at tau_start:
+//   <N_nb> = N pi (2h)^2 integral (Sigma/m)^2 2 pi r dr,
+// so h is proportional to N^(-1/2), as the paper scales it (P98 sec. 5.3).
+double ring_smoothing_length(const RingSetup& s, double neighbours);
+
+}  // namespace sphdisk

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Bad input gets a one-line error naming the problem, a non-zero exit, and no damage to existing
+# outputs.
+set -uo pipefail
+sphdisk=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0 failed=0
+
+# expect_error NAME PATTERN -- ARGS...: exit code 2, exactly one line on stderr matching PATTERN.
+expect_error() {
+  local name=$1 pattern=$2
+  shift 3
+  "$sphdisk" "$@" > "$work/out" 2> "$work/err"
+  local rc=$? lines
+  lines=$(wc -l < "$work/err")
+  if [ $rc -eq 2 ] && [ "$lines" -eq 1 ] && grep -q -- "$pattern" "$work/err"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL $name: rc=$rc lines=$lines stderr: $(cat "$work/err")"
+  fi
+}
+
+printf '[problem]\nparticles = -3\n' > "$work/neg.toml"
+printf '[problem]\nparticle = 3\n' > "$work/typo.toml"
+printf '[problem\nparticles = 3\n' > "$work/broken.toml"
+printf '[output]\ntau = [0.09, 0.05]\n' > "$work/order.toml"
+printf '[physics]\nviscosity = -1e-8\n' > "$work/visc.toml"
+printf '[integrator]\ntolerance = 0\n' > "$work/tol.toml"
+printf '[physics]\naccretion_radius = 1.2\n' > "$work/acc.toml"
+printf '[problem]\ninitial_conditions = "%s/missing.hdf5"\n' "$work" > "$work/ic.toml"
+echo "not hdf5" > "$work/corrupt.hdf5"
+printf '[problem]\ninitial_conditions = "%s/corrupt.hdf5"\n' "$work" > "$work/ic2.toml"
+
+expect_error negative "problem.particles must be an integer" -- run "$work/neg.toml" -o "$work/o1"
+expect_error typo "did you mean 'problem.particles'" -- run "$work/typo.toml" -o "$work/o1"
+expect_error broken-toml "invalid TOML" -- run "$work/broken.toml" -o "$work/o1"
+expect_error output-order "output.tau must be strictly increasing" -- run "$work/order.toml" -o "$work/o1"
+expect_error viscosity "physics.viscosity must be >= 0" -- run "$work/visc.toml" -o "$work/o1"
+expect_error tolerance "integrator.tolerance must be in" -- run "$work/tol.toml" -o "$work/o1"
+expect_error accretion "physics.accretion_radius" -- run "$work/acc.toml" -o "$work/o1"
+expect_error missing-config "cannot read configuration file" -- run "$work/nope.toml" -o "$work/o1"
+expect_error missing-ic "missing.hdf5" -- run "$work/ic.toml" -o "$work/o2"
+expect_error corrupt-ic "corrupt.hdf5" -- run "$work/ic2.toml" -o "$work/o3"
+expect_error bad-set "expected section.key=value" -- run "$(dirname "$0")/../validation/small_ring.toml" --set problem.particles -o "$work/o1"
+expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
+expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
+
+# Existing outputs are never overwritten without --overwrite.
+small=(--set problem.particles=500 --set 'output.tau=[0.0182]' --set output.progress_interval=0)
+"$sphdisk" run -q "${small[@]}" -o "$work/run" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
+before=$(md5sum "$work/run/snapshot_001.hdf5")
+expect_error overwrite "already holds results" -- run "${small[@]}" -o "$work/run" "$(dirname "$0")/../validation/small_ring.toml"
+after=$(md5sum "$work/run/snapshot_001.hdf5")
+if [ "$before" = "$after" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: existing snapshot changed"; fi
+
+echo "cli errors: $passed passed, $failed failed"
+[ $failed -eq 0 ]

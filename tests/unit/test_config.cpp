@@ -1,0 +1,88 @@
+// Configuration: defaults, overrides, and one-line errors naming the key for bad input.
+#include <gtest/gtest.h>
+
+#include "core/config.hpp"
+#include "core/error.hpp"
+
+using namespace sphdisk;
+
+namespace {
+std::string error_of(const std::string& toml, const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_config(toml, "test.toml", overrides);
+  } catch (const UserError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, DefaultsAreThePaperRing) {
+  const Config c = parse_config("", "test.toml", {});
+  EXPECT_EQ(c.particles, 10000);
+  EXPECT_DOUBLE_EQ(c.tau_start, 0.018);
+  EXPECT_EQ(c.output_tau, (std::vector<double>{0.036, 0.054, 0.072, 0.090, 0.126}));
+  EXPECT_DOUBLE_EQ(c.viscosity, 3e-8);
+}
+
+TEST(Config, FileValuesAndOverrides) {
+  const Config c = parse_config("[problem]\nparticles = 500\n[integrator]\nscheme = \"rk45\"\n", "test.toml",
+                                {"problem.particles=100000", "output.tau=[0.036, 0.09]", "integrator.tolerance=1e-7",
+                                 "sph.kernel=wendland_c2"});
+  EXPECT_EQ(c.particles, 100000);
+  EXPECT_EQ(c.scheme, "rk45");
+  EXPECT_EQ(c.output_tau, (std::vector<double>{0.036, 0.09}));
+  EXPECT_DOUBLE_EQ(c.tolerance, 1e-7);
+  EXPECT_EQ(c.kernel, "wendland_c2");  // a bare word on --set is a string
+}
+
+TEST(Config, ResolvedConfigurationListsEveryKey) {
+  const Config c = parse_config("", "test.toml", {"problem.particles=123"});
+  EXPECT_NE(c.resolved_toml.find("particles = 123"), std::string::npos);
+  EXPECT_NE(c.resolved_toml.find("[integrator]"), std::string::npos);
+  // Re-parsing the resolved configuration gives the same configuration.
+  const Config again = parse_config(c.resolved_toml, "resolved.toml", {});
+  EXPECT_EQ(again.resolved_toml, c.resolved_toml);
+}
+
+TEST(Config, UnknownKeyIsNamedWithASuggestion) {
+  const std::string e = error_of("[problem]\nparticle = 5\n");
+  EXPECT_NE(e.find("unknown key 'problem.particle'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'problem.particles'"), std::string::npos) << e;
+}
+
+TEST(Config, InvalidValuesNameKeyAndAllowedRange) {
+  EXPECT_NE(error_of("[problem]\nparticles = 0\n").find("problem.particles must be an integer in [1,"), std::string::npos);
+  EXPECT_NE(error_of("[problem]\nparticles = -5\n").find("problem.particles"), std::string::npos);
+  EXPECT_NE(error_of("[problem]\nparticles = \"many\"\n").find("problem.particles must be an integer"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\nviscosity = -1.0\n").find("physics.viscosity must be >= 0"), std::string::npos);
+  EXPECT_NE(error_of("[integrator]\ntolerance = 0.0\n").find("integrator.tolerance must be in"), std::string::npos);
+  EXPECT_NE(error_of("[integrator]\nscheme = \"euler\"\n").find("must be one of \"leapfrog\" \"rk23\" \"rk45\""), std::string::npos);
+  EXPECT_NE(error_of("[output]\ntau = [0.09, 0.05]\n").find("output.tau must be strictly increasing"), std::string::npos);
+  EXPECT_NE(error_of("[output]\ntau = [0.01]\n").find("output.tau must start after problem.tau_start"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\naccretion_radius = 1.5\n").find("physics.accretion_radius"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\neos = \"isothermal\"\n").find("physics.sound_speed"), std::string::npos);
+}
+
+TEST(Config, MalformedTomlGivesLineAndColumn) {
+  const std::string e = error_of("[problem]\nparticles = = 3\n");
+  EXPECT_NE(e.find("test.toml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("invalid TOML"), std::string::npos) << e;
+}
+
+TEST(Config, BadOverrideSyntax) {
+  EXPECT_NE(error_of("", {"problem.particles"}).find("expected section.key=value"), std::string::npos);
+  EXPECT_NE(error_of("", {"problem.nonsense=3"}).find("unknown key 'problem.nonsense'"), std::string::npos);
+}
+
+TEST(Config, ErrorsAreOneLine) {
+  for (const std::string& e : {error_of("[problem]\nparticle = 5\n"), error_of("[problem]\nparticles = = 3\n"),
+                               error_of("[output]\ntau = [0.09, 0.05]\n")}) {
+    ASSERT_FALSE(e.empty());
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+TEST(Config, MissingFileIsAUserError) {
+  EXPECT_THROW(load_config("/nonexistent/ring.toml", {}), UserError);
+}

@@ -1,0 +1,130 @@
+// Time integration: with nu = 0 the ring's particles are pure Kepler orbits and must stay on their
+// circles (physics.md sec. 3 "accuracy trap"); rate evaluation and stepping give the same bits for
+// any thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "app/rate_evaluator.hpp"
+#include "integrate/integrator.hpp"
+#include "parallel/loops.hpp"
+#include "problems/ring_setup.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+RingSetup small_ring(std::size_t n, double nu) {
+  RingSetup s;
+  s.solution = RingSolution{1e-10, 1.0, nu};
+  s.particles = n;
+  return s;
+}
+
+struct Drift {
+  double guiding_centre;  // max |r_g(end) - r_g(0)| / r_g(0) per orbit, r_g = j^2 / (G M)
+  double semi_major;      // max |<a>_last - <a>_first| / a per orbit, a = -G M / (2 E), orbit-averaged
+};
+
+// Secular radial drift of Kepler orbits (nu = 0), per orbit at r0, over `orbits` orbits. The
+// guiding-centre radius is the low-noise measure of radial drift (physics.md sec. 4); the
+// orbit-averaged semi-major axis also catches energy drift.
+Drift kepler_drift(const IntegratorParams& ip, std::size_t n, double orbits) {
+  const RingSetup s = small_ring(n, 0.0);
+  Particles<2> p = make_ring(s);
+  const double h = ring_smoothing_length(s, 40);
+  PhysicsParams phys;  // nu = 0: gravity only; the SPH stages still run (and must add nothing)
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, h, phys, timers);
+  auto integ = make_integrator<2>(ip, rates);
+  integ->start(p);
+  auto j_of = [&](std::size_t i) { return p.pos[i][0] * p.vel[i][1] - p.pos[i][1] * p.vel[i][0]; };
+  auto a_of = [&](std::size_t i) { return -1.0 / (2.0 * (0.5 * norm2(p.vel[i]) - 1.0 / norm(p.pos[i]))); };
+  std::vector<double> j0(n), a_first(n, 0), a_last(n, 0);
+  for (std::size_t i = 0; i < n; ++i) j0[p.id[i] - 1] = j_of(i);
+  const double period = 2 * std::numbers::pi, t_end = orbits * period;
+  double t = 0, w_first = 0, w_last = 0;
+  while (t < t_end) {
+    const double dt = integ->step(p, t_end - t);
+    t += dt;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (t <= period) a_first[p.id[i] - 1] += a_of(i) * dt;
+      if (t > t_end - period) a_last[p.id[i] - 1] += a_of(i) * dt;
+    }
+    if (t <= period) w_first += dt;
+    if (t > t_end - period) w_last += dt;
+  }
+  Drift d{0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t k = p.id[i] - 1;
+    const double j = j_of(i);
+    d.guiding_centre = std::max(d.guiding_centre, std::abs(j * j - j0[k] * j0[k]) / (j0[k] * j0[k]) / orbits);
+    const double a = a_first[k] / w_first, b = a_last[k] / w_last;
+    d.semi_major = std::max(d.semi_major, std::abs(b - a) / a / (orbits - 1));
+  }
+  return d;
+}
+
+}  // namespace
+
+TEST(Integrators, LeapfrogKeepsKeplerRingsOnTheirCircles) {
+  IntegratorParams ip;  // the default: KDK leapfrog, orbital factor 0.25
+  const Drift d = kepler_drift(ip, 500, 10);
+  std::printf("leapfrog: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
+  EXPECT_LE(d.guiding_centre, 1e-6);
+  EXPECT_LE(d.semi_major, 1e-6);
+}
+
+TEST(Integrators, RungeKuttaWithTightToleranceKeepsKeplerRings) {
+  IntegratorParams ip;
+  ip.scheme = Scheme::RK45;
+  ip.tolerance = 1e-9;
+  const Drift d = kepler_drift(ip, 300, 6);
+  std::printf("rk45 1e-9: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
+  EXPECT_LE(d.guiding_centre, 1e-6);
+  EXPECT_LE(d.semi_major, 1e-6);
+}
+
+// A loose tolerance visibly spoils the orbits (the paper's 500k run, P98 sec. 5.3): the error
+// control must respond to the tolerance, so a looser tolerance drifts more.
+TEST(Integrators, LooserToleranceDriftsMore) {
+  IntegratorParams tight, loose;
+  tight.scheme = loose.scheme = Scheme::RK23;
+  tight.tolerance = 1e-8;
+  loose.tolerance = 1e-4;
+  const Drift t = kepler_drift(tight, 200, 4), l = kepler_drift(loose, 200, 4);
+  std::printf("rk23: drift %.3e at 1e-8, %.3e at 1e-4 per orbit\n", t.guiding_centre, l.guiding_centre);
+  EXPECT_LT(t.guiding_centre, l.guiding_centre);
+  EXPECT_GT(l.guiding_centre, 1e-6);  // the paper's failure mode is visible at a loose tolerance
+}
+
+TEST(Integrators, SameBitsForAnyThreadCount) {
+  for (Scheme scheme : {Scheme::Leapfrog, Scheme::RK23}) {
+    std::vector<Particles<2>> results;
+    for (int threads : {1, 2, 3, 4}) {
+      par::set_threads(threads);
+      const RingSetup s = small_ring(3000, 4.778e-5);
+      Particles<2> p = make_ring(s);
+      PhysicsParams phys;
+      phys.nu = 4.778e-5;
+      phys.evolve_energy = true;
+      PhaseTimers timers;
+      RateEvaluator<2> rates(KernelType::Cubic, ring_smoothing_length(s, 60), phys, timers);
+      IntegratorParams ip;
+      ip.scheme = scheme;
+      auto integ = make_integrator<2>(ip, rates);
+      integ->start(p);
+      for (int k = 0; k < 10; ++k) integ->step(p, 1.0);
+      results.push_back(p);
+    }
+    par::set_threads(0);
+    for (std::size_t r = 1; r < results.size(); ++r) {
+      EXPECT_EQ(results[r].pos, results[0].pos) << "threads " << r + 1;
+      EXPECT_EQ(results[r].vel, results[0].vel) << "threads " << r + 1;
+      EXPECT_EQ(results[r].rho, results[0].rho) << "threads " << r + 1;
+      EXPECT_EQ(results[r].u, results[0].u) << "threads " << r + 1;
+    }
+  }
+}

@@ -1,0 +1,69 @@
+// Neighbour lists from the cell grid must equal a brute-force O(N^2) search, in a fixed order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "neighbours/neighbour_lists.hpp"
+#include "parallel/loops.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+
+template <int D>
+void check_against_brute_force(const Particles<D>& p, double radius) {
+  const auto grid = build_cell_grid(p.pos, p.id, radius);
+  const auto nl = build_neighbour_lists(grid, p.pos, radius);
+  ASSERT_EQ(nl.size(), p.size());
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    std::vector<std::uint32_t> brute;
+    for (std::size_t j = 0; j < p.size(); ++j)
+      if (j != i && norm2(p.pos[j] - p.pos[i]) < radius * radius) brute.push_back(static_cast<std::uint32_t>(j));
+    std::vector<std::uint32_t> got(nl.begin(i), nl.end(i));
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, brute) << "particle " << i;
+    total += brute.size();
+  }
+  EXPECT_GT(total, p.size());  // the sets are dense enough to have neighbours
+}
+
+TEST(Neighbours, EqualBruteForceRandom2D) { check_against_brute_force(test::random_particles<2>(2000, 1, false), 0.05); }
+TEST(Neighbours, EqualBruteForceClustered2D) { check_against_brute_force(test::random_particles<2>(2000, 2, true), 0.02); }
+TEST(Neighbours, EqualBruteForceRandom3D) { check_against_brute_force(test::random_particles<3>(2000, 3, false), 0.12); }
+TEST(Neighbours, EqualBruteForceClustered3D) { check_against_brute_force(test::random_particles<3>(2000, 4, true), 0.05); }
+
+TEST(Neighbours, FarOutlierDoesNotBlowUpTheGrid) {
+  auto p = test::random_particles<2>(500, 5, false);
+  p.pos[17] = Vec<2>{{1e9, -1e9}};
+  const auto grid = build_cell_grid(p.pos, p.id, 0.05);
+  EXPECT_LE(grid.num_cells(), 4 * p.size() + 1024);
+  check_against_brute_force(p, 0.05);
+}
+
+// Order inside each list is by cell, then by particle ID: independent of memory order.
+TEST(Neighbours, OrderDoesNotDependOnMemoryOrder) {
+  auto p = test::random_particles<2>(3000, 6, true);
+  const double radius = 0.03;
+  const auto nl = build_neighbour_lists(build_cell_grid(p.pos, p.id, radius), p.pos, radius);
+  std::vector<std::uint32_t> reversed(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) reversed[i] = static_cast<std::uint32_t>(p.size() - 1 - i);
+  auto q = p;
+  q.gather(reversed);
+  const auto nq = build_neighbour_lists(build_cell_grid(q.pos, q.id, radius), q.pos, radius);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::size_t iq = p.size() - 1 - i;
+    ASSERT_EQ(nl.count(i), nq.count(iq));
+    for (std::size_t k = 0; k < nl.count(i); ++k) ASSERT_EQ(p.id[nl.begin(i)[k]], q.id[nq.begin(iq)[k]]);
+  }
+}
+
+TEST(Neighbours, SameListsForAnyThreadCount) {
+  const auto p = test::random_particles<2>(20000, 7, true);
+  par::set_threads(1);
+  const auto a = build_neighbour_lists(build_cell_grid(p.pos, p.id, 0.01), p.pos, 0.01);
+  par::set_threads(3);
+  const auto b = build_neighbour_lists(build_cell_grid(p.pos, p.id, 0.01), p.pos, 0.01);
+  par::set_threads(0);
+  EXPECT_EQ(a.offsets, b.offsets);
+  EXPECT_EQ(a.index, b.index);
+}

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Same input, same bits: a short ring run with 1, 2, 3 and 4 threads must give byte-identical
+# snapshot files (HDF5 written without timestamps, particles in ID order).
+set -euo pipefail
+sphdisk=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+for t in 1 2 3 4; do
+  OMP_NUM_THREADS=$t "$sphdisk" run -q --output "$work/t$t" \
+    --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
+    "$(dirname "$0")/small_ring.toml" > /dev/null
+done
+fail=0
+for t in 2 3 4; do
+  for f in snapshot_000.hdf5 snapshot_001.hdf5 snapshot_002.hdf5; do
+    if cmp -s "$work/t1/$f" "$work/t$t/$f"; then echo "identical: $f with 1 and $t threads"; else echo "DIFFERENT: $f with 1 and $t threads"; fail=1; fi
+  done
+done
+[ $fail -eq 0 ] && echo "thread identity: 1 passed, 0 failed" || echo "thread identity: 0 passed, 1 failed"
+exit $fail
