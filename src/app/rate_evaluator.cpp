@@ -10,14 +10,13 @@ namespace sphdisk {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p) {
   const double support = 2.0 * h_;  // all kernels have compact support 2h
-  CellGrid<D> grid;
   {
     ScopedPhase t(timers_, "cell_build");
-    grid = build_cell_grid(p.pos, p.id, support);
+    build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
   }
   {
     ScopedPhase t(timers_, "neighbour_search");
-    lists_ = build_neighbour_lists(grid, p.pos, support);
+    build_neighbour_lists(grid_, p.pos, support, lists_);
   }
   with_kernel(kernel_, [&](auto k) {
     const KernelAt<decltype(k), D> kern(h_);

@@ -5,6 +5,7 @@
 // Reads: pos, vel, mass, u, id. Writes: rho, stress, acc, du_dt; keeps the neighbour lists.
 #include "core/particles.hpp"
 #include "core/timers.hpp"
+#include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "physics/kernels.hpp"
 #include "physics/physics_params.hpp"
@@ -32,6 +33,7 @@ class RateEvaluator {
   double h_;
   PhysicsParams phys_;
   PhaseTimers& timers_;
+  CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   NeighbourLists lists_;
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;

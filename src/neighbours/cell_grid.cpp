@@ -55,16 +55,17 @@ void bounding_box(const std::vector<Vec<D>>& pos, Vec<D>& lo, Vec<D>& hi) {
 }
 
 template <int D>
-CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
-                            double min_cell_size) {
-  CellGrid<D> g;
+void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
+                     CellGrid<D>& g) {
   const std::size_t n = pos.size();
   Vec<D> hi;
   if (n == 0) {
     g.cell_size = min_cell_size;
     g.dims.fill(1);
     g.offsets.assign(2, 0);
-    return g;
+    g.sorted.clear();
+    g.sorted_pos.clear();
+    return;
   }
   bounding_box(pos, g.lo, hi);
   const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
@@ -83,7 +84,8 @@ CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<st
   for (int d : g.dims) ncells *= static_cast<std::size_t>(d);
 
   // Counting sort: keys in parallel, histogram and stable scatter serially (O(N), as in P98).
-  std::vector<std::uint32_t> key(n);
+  auto& key = g.key;
+  key.resize(n);
   par::for_each(n, [&](std::size_t i) { key[i] = static_cast<std::uint32_t>(g.cell_of(pos[i])); });
   g.offsets.assign(ncells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++g.offsets[key[i] + 1];
@@ -107,13 +109,14 @@ CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<st
       *q = v;
     }
   });
-  return g;
+  g.sorted_pos.resize(n);
+  par::for_each(n, [&](std::size_t k) { g.sorted_pos[k] = pos[g.sorted[k]]; });
 }
 
 template struct CellGrid<2>;
 template struct CellGrid<3>;
-template CellGrid<2> build_cell_grid(const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, double);
-template CellGrid<3> build_cell_grid(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double);
+template void build_cell_grid(const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, double, CellGrid<2>&);
+template void build_cell_grid(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double, CellGrid<3>&);
 template void bounding_box(const std::vector<Vec<2>>&, Vec<2>&, Vec<2>&);
 template void bounding_box(const std::vector<Vec<3>>&, Vec<3>&, Vec<3>&);
 

@@ -19,6 +19,8 @@ struct CellGrid {
   std::array<int, D> dims{};    // cells per dimension
   std::vector<std::uint32_t> sorted;   // particle indices, cell by cell
   std::vector<std::uint32_t> offsets;  // cell c holds sorted[offsets[c] .. offsets[c+1])
+  std::vector<Vec<D>> sorted_pos;      // pos[sorted[s]]: candidates are scanned contiguously
+  std::vector<std::uint32_t> key;      // scratch: cell of each particle
 
   std::size_t num_cells() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   int coord(double x, int k) const;                  // clamped to [0, dims[k])
@@ -29,9 +31,18 @@ struct CellGrid {
 // Builds the grid over the bounding box of pos with cells no smaller than min_cell_size. The cell
 // size grows if needed to keep the number of cells <= max(4 N, 1024): a stray far-away particle
 // cannot blow up memory.
+// Fills `g` in place, reusing its memory.
+template <int D>
+void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
+                     CellGrid<D>& g);
+
 template <int D>
 CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
-                            double min_cell_size);
+                            double min_cell_size) {
+  CellGrid<D> g;
+  build_cell_grid(pos, id, min_cell_size, g);
+  return g;
+}
 
 // Bounding box shared by the grid builder and the tests.
 template <int D>

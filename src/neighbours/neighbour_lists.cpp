@@ -1,6 +1,7 @@
 #include "neighbours/neighbour_lists.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "parallel/loops.hpp"
 
@@ -8,13 +9,14 @@ namespace sphdisk {
 
 namespace {
 
-// Visits the candidate neighbours of x: the 3^D cells around its cell. With x-fastest cell order,
-// the three cells of a row are adjacent in `sorted`, so each row is one contiguous range.
+// Visits the candidate neighbours of x: the cells within `reach` cells of its cell in every
+// dimension. With x-fastest cell order, the cells of a row are adjacent in `sorted`, so each row is
+// one contiguous range.
 template <int D, class F>
-void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, F&& f) {
+void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, F&& f) {
   std::array<int, D> c;
   for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = g.coord(x[k], k);
-  const int x0 = std::max(c[0] - 1, 0), x1 = std::min(c[0] + 1, g.dims[0] - 1);
+  const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
   std::array<int, D> r = c;
   auto row = [&](const std::array<int, D>& cell) {
     std::array<int, D> a = cell, b = cell;
@@ -25,13 +27,13 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, F&& f) {
   if constexpr (D == 1) {
     row(r);
   } else if constexpr (D == 2) {
-    for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, g.dims[1] - 1); ++y) {
+    for (int y = std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
       r[1] = y;
       row(r);
     }
   } else {
-    for (int z = std::max(c[2] - 1, 0); z <= std::min(c[2] + 1, g.dims[2] - 1); ++z)
-      for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, g.dims[1] - 1); ++y) {
+    for (int z = std::max(c[2] - reach, 0); z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
+      for (int y = std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
         r[1] = y;
         r[2] = z;
         row(r);
@@ -39,38 +41,43 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, F&& f) {
   }
 }
 
-constexpr std::size_t kBlock = 1024;  // particles per work unit; lists are made per block, then joined
+constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
 
 }  // namespace
 
 template <int D>
-NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius) {
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl) {
   const std::size_t n = pos.size();
   const double r2 = radius * radius;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::vector<std::uint32_t>> block_index(nblocks);
-  std::vector<std::vector<std::uint32_t>> block_count(nblocks);
+  const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
+  auto& block_index = nl.block_index;
+  auto& block_count = nl.block_count;
+  block_index.resize(nblocks);
+  block_count.resize(nblocks);
 
   par::for_each(nblocks, [&](std::size_t b) {
-    auto& idx = block_index[b];
-    auto& cnt = block_count[b];
+    // Work on local vectors (their headers sit in this thread's cache), reusing the block's memory:
+    // pushing through block_index[b] directly would make neighbouring blocks false-share headers.
+    std::vector<std::uint32_t> idx, cnt;
+    idx.swap(block_index[b]);
+    cnt.swap(block_count[b]);
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
     cnt.resize(i1 - i0);
-    idx.reserve((i1 - i0) * 64);
+    idx.clear();
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
       const std::size_t before = idx.size();
-      for_each_candidate_range<D>(grid, xi, [&](std::uint32_t s0, std::uint32_t s1) {
-        for (std::uint32_t s = s0; s < s1; ++s) {
-          const std::uint32_t j = grid.sorted[s];
-          if (j != i && norm2(pos[j] - xi) < r2) idx.push_back(j);
-        }
+      for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
+        for (std::uint32_t s = s0; s < s1; ++s)
+          if (norm2(grid.sorted_pos[s] - xi) < r2 && grid.sorted[s] != i) idx.push_back(grid.sorted[s]);
       });
       cnt[i - i0] = static_cast<std::uint32_t>(idx.size() - before);
     }
-  }, "neighbour_search");
+    idx.swap(block_index[b]);
+    cnt.swap(block_count[b]);
+  }, "neighbour_search", 1);
 
-  NeighbourLists nl;
   nl.offsets.resize(n + 1);
   nl.offsets[0] = 0;
   std::vector<std::size_t> block_start(nblocks + 1, 0);
@@ -83,12 +90,10 @@ NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<
       off += block_count[b][k];
       nl.offsets[b * kBlock + k + 1] = off;
     }
-    std::vector<std::uint32_t>().swap(block_index[b]);
-  });
-  return nl;
+  }, {}, 1);
 }
 
-template NeighbourLists build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double);
-template NeighbourLists build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double);
+template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&);
 
 }  // namespace sphdisk

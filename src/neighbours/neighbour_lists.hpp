@@ -20,10 +20,22 @@ struct NeighbourLists {
   const std::uint32_t* begin(std::size_t i) const { return index.data() + offsets[i]; }
   const std::uint32_t* end(std::size_t i) const { return index.data() + offsets[i + 1]; }
   std::size_t total() const { return index.size(); }
+
+  // Builder scratch, one list per block of particles, kept between builds so that rebuilding
+  // reuses memory instead of faulting in fresh pages (which serialises threads in the kernel).
+  std::vector<std::vector<std::uint32_t>> block_index, block_count;
 };
 
-// Requires grid.cell_size >= radius.
+// Any cell size works; cells of about radius/2 scan the fewest candidates (5 x 5 cells of h^2
+// against 3 x 3 of 4 h^2 for a support radius 2h).
 template <int D>
-NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius);
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& out);
+
+template <int D>
+NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius) {
+  NeighbourLists nl;
+  build_neighbour_lists(grid, pos, radius, nl);
+  return nl;
+}
 
 }  // namespace sphdisk

@@ -22,19 +22,21 @@ int max_threads();
 void set_threads(int n);  // n <= 0: use the runtime default
 int thread_index();
 
-// Loop over [0, n) with dynamic load balancing (chunks handed out on demand, as particles near the
-// ring centre have more neighbours than those in the wings).
+// Loop over [0, n) with dynamic load balancing: chunks of `grain` iterations are handed out on
+// demand, as particles near the ring centre have more neighbours than those in the wings. Loops
+// over a few large work items (blocks) pass grain = 1.
 template <class F>
-void for_each(std::size_t n, F&& f, std::string_view trace_label = {}) {
+void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain = 256) {
   const long long nn = static_cast<long long>(n);
 #ifdef SPHDISK_HAVE_OPENMP
 #pragma omp parallel
   {
     TraceScope scope(trace_label);
-#pragma omp for schedule(dynamic, 256)
+#pragma omp for schedule(dynamic, grain)
     for (long long i = 0; i < nn; ++i) f(static_cast<std::size_t>(i));
   }
 #else
+  (void)grain;
   TraceScope scope(trace_label);
   for (long long i = 0; i < nn; ++i) f(static_cast<std::size_t>(i));
 #endif
@@ -53,7 +55,7 @@ T reduce(std::size_t n, T init, F&& f, Op&& op) {
     const std::size_t end = std::min(n, (b + 1) * kReduceBlock);
     for (std::size_t i = b * kReduceBlock; i < end; ++i) acc = op(acc, f(i));
     partial[b] = acc;
-  });
+  }, {}, 1);
   T total = init;
   for (const T& p : partial) total = op(total, p);
   return total;

@@ -28,20 +28,20 @@ template <class K, int D>
 Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
                              const KernelAt<K, D>& kern, const PhysicsParams& phys, double& du_dt_pressure) {
   const Vec<D> xi = p.pos[i], vi = p.vel[i];
-  const double rho_i = p.rho[i];
+  const double inv_rho_i = 1.0 / p.rho[i];
   const Mat<D>& Si = p.stress[i];
   const bool with_pressure = phys.eos != EquationOfState::None;
-  const double Pi_rho2 = with_pressure ? pressure(phys, rho_i) / (rho_i * rho_i) : 0.0;
+  const double Pi_rho2 = with_pressure ? pressure(phys, p.rho[i]) * inv_rho_i * inv_rho_i : 0.0;
   Vec<D> a;
   double work = 0.0;
   for (const std::uint32_t* it = nl.begin(i); it != nl.end(i); ++it) {
     const std::uint32_t j = *it;
     const Vec<D> dx = xi - p.pos[j];
     const Vec<D> gradW = dx * kern.dW_over_r(norm(dx));
-    const double mj = p.mass[j], rho_j = p.rho[j];
+    const double mj = p.mass[j], rho_j = p.rho[j], inv_rho_j = 1.0 / rho_j;
     const Mat<D>& Sj = p.stress[j];
     Mat<D> T;  // m_j (S_i / rho_j + S_j / rho_i)
-    for (std::size_t k = 0; k < T.c.size(); ++k) T.c[k] = mj * (Si.c[k] / rho_j + Sj.c[k] / rho_i);
+    for (std::size_t k = 0; k < T.c.size(); ++k) T.c[k] = mj * (Si.c[k] * inv_rho_j + Sj.c[k] * inv_rho_i);
     a += contract(T, gradW);
     if (with_pressure) {
       const double Pj_rho2 = pressure(phys, rho_j) / (rho_j * rho_j);
