@@ -18,21 +18,18 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     ScopedPhase t(timers_, "neighbour_search");
     build_neighbour_lists(grid_, p.pos, support, lists_);
   }
-  with_kernel(kernel_, [&](auto k) {
-    const KernelAt<decltype(k), D> kern(h_);
-    {
-      ScopedPhase t(timers_, "density");
-      compute_density(p, lists_, kern);
-    }
-    {
-      ScopedPhase t(timers_, "velocity_gradient");
-      compute_viscous_stress(p, lists_, kern, phys_);
-    }
-    {
-      ScopedPhase t(timers_, "forces");
-      compute_accelerations(p, lists_, kern, phys_);
-    }
-  });
+  {
+    ScopedPhase t(timers_, "density");
+    with_kernel(kernel_, [&](auto k) { compute_density(p, lists_, KernelAt<decltype(k), D>(h_), factors_); });
+  }
+  {
+    ScopedPhase t(timers_, "velocity_gradient");
+    compute_viscous_stress(p, lists_, factors_, phys_);
+  }
+  {
+    ScopedPhase t(timers_, "forces");
+    compute_accelerations(p, lists_, factors_, phys_);
+  }
   ++evaluations_;
   pairs_ += lists_.total();
 }

@@ -8,6 +8,7 @@
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "physics/kernels.hpp"
+#include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {
@@ -25,6 +26,7 @@ class RateEvaluator {
   KernelType kernel() const { return kernel_; }
   PhaseTimers& timers() { return timers_; }
   const NeighbourLists& neighbours() const { return lists_; }
+  const PairFactors& pair_factors() const { return factors_; }
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
 
@@ -35,6 +37,7 @@ class RateEvaluator {
   PhaseTimers& timers_;
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   NeighbourLists lists_;
+  PairFactors factors_;    // kernel-gradient factor of every list entry (pair_factors.hpp)
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;
 };

@@ -17,6 +17,7 @@
 #include "integrate/integrator.hpp"
 #include "io/snapshot.hpp"
 #include "neighbours/cell_grid.hpp"
+#include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
 #include "problems/ring_setup.hpp"
 
@@ -158,9 +159,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     throw UserError(msg);
   }
 
-  prepare_output_dir(dir, opts.overwrite);
-  write_text_file(dir, "config.toml", cfg.resolved_toml);
-
   PhaseTimers timers;
   Particles<kDim> p;
   SnapshotMeta meta;
@@ -175,7 +173,20 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
       t = time_of_tau(cfg.tau_start);
     }
   }
-  const double h = cfg.smoothing_length > 0 ? cfg.smoothing_length : ring_smoothing_length(setup, cfg.neighbours);
+  std::vector<double> t_out;
+  for (double tau : cfg.output_tau) t_out.push_back(time_of_tau(tau));
+  if (t_out.back() <= t)
+    throw UserError("every output.tau is at or before the initial time (tau = " + std::to_string(tau_of_time(t)) +
+                    "); give output times after it");
+  // Inputs are valid: only now touch the output directory.
+  prepare_output_dir(dir, opts.overwrite);
+  write_text_file(dir, "config.toml", cfg.resolved_toml);
+
+  // h: given, or from the target mean neighbour number (analytically for the ring, measured on
+  // the particles for a user's file). Constant in time and global (P98 sec. 5.3).
+  const double h = cfg.smoothing_length > 0            ? cfg.smoothing_length
+                   : cfg.initial_conditions.empty()    ? ring_smoothing_length(setup, cfg.neighbours)
+                                                       : calibrate_smoothing_length(p.pos, p.id, cfg.neighbours);
   for (auto& hi : p.h) hi = h;
 
   IntegratorParams ip;
@@ -226,8 +237,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   write_output(0, 0);
   diagnostics_row(0, 0.0);
 
-  std::vector<double> t_out;
-  for (double tau : cfg.output_tau) t_out.push_back(time_of_tau(tau));
   std::size_t next = 0;
   while (next < t_out.size() && t_out[next] <= t) ++next;  // outputs before the start are skipped
   const double t_begin = t, t_end = t_out.back();

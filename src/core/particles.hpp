@@ -28,6 +28,7 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(u,     Scalar, "InternalEnergy",     kSnapshot | kCheckpoint | kEnergyOnly, 2,  0, -2)     \
   X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint,               1,  0,  0)     \
   X(rho,   Scalar, "Density",            kSnapshot,                            -2,  1,  0)     \
+  X(volume, Scalar, "Volume",            0,                                     2,  0,  0)     \
   X(stress, Tensor, "KinematicStress",   0,                                     2,  0, -1)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)

@@ -6,13 +6,16 @@
 //   gravity:  a_i -= G M x_i / |x_i|^3
 // Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
-// Reads: pos, vel, mass, rho, stress, du_dt (heating from viscous_stress.hpp). Writes: acc, du_dt.
+// The viscous sum is evaluated factored, with no division in the pair loop:
+//   sum_j m_j (S_i/rho_j + S_j/rho_i) g_j = S_i . sum_j (m_j/rho_j) g_j + (1/rho_i) sum_j m_j S_j . g_j.
+// Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
+// Writes: acc, du_dt.
 #include <cmath>
 
 #include "core/particles.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
-#include "physics/kernels.hpp"
+#include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {
@@ -24,41 +27,38 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
   return x * (-gm / (r2 * r));
 }
 
-template <class K, int D>
-Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
-                             const KernelAt<K, D>& kern, const PhysicsParams& phys, double& du_dt_pressure) {
+template <int D>
+Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F,
+                             const PhysicsParams& phys, double& du_dt_pressure) {
   const Vec<D> xi = p.pos[i], vi = p.vel[i];
   const double inv_rho_i = 1.0 / p.rho[i];
   const Mat<D>& Si = p.stress[i];
   const bool with_pressure = phys.eos != EquationOfState::None;
   const double Pi_rho2 = with_pressure ? pressure(phys, p.rho[i]) * inv_rho_i * inv_rho_i : 0.0;
-  Vec<D> a;
+  Vec<D> vol_grad, stress_grad, a_pressure;  // sum (m_j/rho_j) g, sum m_j S_j . g
   double work = 0.0;
-  for (const std::uint32_t* it = nl.begin(i); it != nl.end(i); ++it) {
-    const std::uint32_t j = *it;
-    const Vec<D> dx = xi - p.pos[j];
-    const Vec<D> gradW = dx * kern.dW_over_r(norm(dx));
-    const double mj = p.mass[j], rho_j = p.rho[j], inv_rho_j = 1.0 / rho_j;
-    const Mat<D>& Sj = p.stress[j];
-    Mat<D> T;  // m_j (S_i / rho_j + S_j / rho_i)
-    for (std::size_t k = 0; k < T.c.size(); ++k) T.c[k] = mj * (Si.c[k] * inv_rho_j + Sj.c[k] * inv_rho_i);
-    a += contract(T, gradW);
+  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
+    const std::uint32_t j = nl.index[k];
+    const Vec<D> gradW = (xi - p.pos[j]) * static_cast<double>(F[k]);
+    const double mj = p.mass[j];
+    vol_grad += gradW * p.volume[j];
+    stress_grad += contract(p.stress[j], gradW) * mj;
     if (with_pressure) {
+      const double rho_j = p.rho[j];
       const double Pj_rho2 = pressure(phys, rho_j) / (rho_j * rho_j);
-      a -= gradW * (mj * (Pi_rho2 + Pj_rho2));
+      a_pressure -= gradW * (mj * (Pi_rho2 + Pj_rho2));
       work += mj * dot(vi - p.vel[j], gradW);
     }
   }
   du_dt_pressure = Pi_rho2 * work;
-  return a;
+  return contract(Si, vol_grad) + stress_grad * inv_rho_i + a_pressure;
 }
 
-template <class K, int D>
-void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern,
-                           const PhysicsParams& phys) {
+template <int D>
+void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
   par::for_each(p.size(), [&](std::size_t i) {
     double du_pressure = 0.0;
-    p.acc[i] = hydro_acceleration_at(i, p, nl, kern, phys, du_pressure) + point_mass_gravity(p.pos[i], phys.gm);
+    p.acc[i] = hydro_acceleration_at(i, p, nl, F, phys, du_pressure) + point_mass_gravity(p.pos[i], phys.gm);
     p.du_dt[i] += du_pressure;
   }, "forces");
 }

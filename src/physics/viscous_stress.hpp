@@ -7,23 +7,23 @@
 //   m_j (nu_j sigma_j / rho_i + nu_i sigma_i / rho_j) = m_j (S_j / rho_i + S_i / rho_j).
 // Viscous heating du_i/dt = S_i : V_i (physics.md sec. 2: sigma:V, not sigma:sigma/2) makes the
 // kinetic + internal energy exactly conserved together with the force of forces.hpp.
-// Reads: pos, vel, mass, rho. Writes: stress, du_dt (viscous heating part).
+// Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part).
 #include "core/particles.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
-#include "physics/kernels.hpp"
+#include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {
 
-template <class K, int D>
-Mat<D> velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern) {
+template <int D>
+Mat<D> velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
   const Vec<D> xi = p.pos[i], vi = p.vel[i];
   Mat<D> V;
-  for (const std::uint32_t* it = nl.begin(i); it != nl.end(i); ++it) {
-    const std::uint32_t j = *it;
+  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
+    const std::uint32_t j = nl.index[k];
     const Vec<D> dx = xi - p.pos[j];
-    const double f = p.mass[j] / p.rho[j] * kern.dW_over_r(norm(dx));  // times dx_b gives W_,b
+    const double f = p.volume[j] * static_cast<double>(F[k]);  // (m_j / rho_j) W_,b / dx_b
     const Vec<D> dv = p.vel[j] - vi;
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) V(a, b) += f * dv[a] * dx[b];
@@ -41,11 +41,10 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
-template <class K, int D>
-void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern,
-                            const PhysicsParams& phys) {
+template <int D>
+void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
   par::for_each(p.size(), [&](std::size_t i) {
-    const Mat<D> V = velocity_gradient_at(i, p, nl, kern);
+    const Mat<D> V = velocity_gradient_at(i, p, nl, F);
     p.stress[i] = kinematic_stress(V, phys);
     p.du_dt[i] = double_dot(p.stress[i], V);
   }, "velocity_gradient");

@@ -45,7 +45,8 @@ PhysicsParams viscous(double nu, double nu_bulk = 0.0) {
 
 // Eq. 8 applied to v = A x + b gives V = A M with the lattice moment
 // M = sum_j (m_j / rho_j) (x_j - x_i) (x_i - x_j)^T W'/r, which is c I on a square lattice (by
-// symmetry) with c -> 1 as h/dx grows. So V must equal c A to round-off, and A itself to the
+// symmetry) with c -> 1 as h/dx grows. So V must equal c A up to the rounding of the stored
+// single-precision kernel factors (2^-24 relative each; measured 2e-8), and A itself to the
 // lattice-sum accuracy (3e-5 at h = 2.2 dx for the cubic spline; ~1% at h = 1.2-1.8 dx).
 void check_linear_gradient(double eta, double tolerance_vs_exact) {
   const double A[2][2] = {{0.3, -1.1}, {0.7, 0.2}};
@@ -64,14 +65,14 @@ void check_linear_gradient(double eta, double tolerance_vs_exact) {
       const Vec<2> dx = e.p.pos[i] - e.p.pos[j];
       c -= e.p.mass[j] / e.p.rho[j] * dx[0] * dx[0] * kern.dW_over_r(norm(dx));
     }
-    const Mat<2> V = velocity_gradient_at(i, e.p, rates.neighbours(), kern);
+    const Mat<2> V = velocity_gradient_at(i, e.p, rates.neighbours(), rates.pair_factors());
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
         worst_vs_cA = std::max(worst_vs_cA, std::abs(V(a, b) - c * A[a][b]));
         worst_vs_A = std::max(worst_vs_A, std::abs(V(a, b) - A[a][b]));
       }
   }
-  EXPECT_LT(worst_vs_cA, 1e-12);
+  EXPECT_LT(worst_vs_cA, 1e-7);
   EXPECT_LT(worst_vs_A, tolerance_vs_exact);
 }
 
