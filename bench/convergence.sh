@@ -16,7 +16,7 @@ for n in "${sizes[@]}"; do
     $exe run configs/ring.toml -q --overwrite -o "$dir" --set problem.particles=$n --set sph.neighbours=$nb \
       --set 'output.tau=[0.036, 0.09]' > /dev/null
     end=$(date +%s.%N)
-    echo "$(echo "$end - $start" | bc)" > "$dir/wall_seconds.txt"
+    awk -v a="$start" -v b="$end" 'BEGIN { print b - a }' > "$dir/wall_seconds.txt"
     $exe analyze "$dir/snapshot_002.hdf5" --json "$dir/analysis.json" > "$dir/analysis.txt"
     echo "done N=$n nb=$nb in $(cat "$dir/wall_seconds.txt") s"
   done
