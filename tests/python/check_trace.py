@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""`sphdisk run --trace FILE` writes Chrome trace-event JSON (Perfetto) with one track per thread,
+and the run directory gets timers.json with every phase.
+
+Usage: check_trace.py SPHDISK CONFIG
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def main():
+    exe, config = sys.argv[1], sys.argv[2]
+    checks = []
+    with tempfile.TemporaryDirectory() as tmp:
+        trace = Path(tmp) / "trace.json"
+        env = dict(os.environ, OMP_NUM_THREADS="2")
+        subprocess.run([exe, "run", config, "-q", "-o", str(Path(tmp) / "run"), "--trace", str(trace),
+                        "--set", "problem.particles=3000", "--set", "output.tau=[0.0183]"],
+                       check=True, env=env, stdout=subprocess.DEVNULL)
+        events = json.loads(trace.read_text())["traceEvents"]
+        checks.append(("trace has complete events", len(events) > 0 and all(e["ph"] == "X" for e in events)))
+        checks.append(("one track per thread (2 threads)", len({e["tid"] for e in events}) == 2))
+        names = {e["name"] for e in events}
+        for phase in ("neighbour_search", "density", "velocity_gradient", "forces", "integration", "io"):
+            checks.append((f"phase '{phase}' traced", phase in names))
+        checks.append(("durations non-negative", all(e["dur"] >= 0 for e in events)))
+        timers = json.loads((Path(tmp) / "run" / "timers.json").read_text())
+        for phase in ("cell_build", "neighbour_search", "density", "velocity_gradient", "forces", "integration", "io"):
+            checks.append((f"timers.json has '{phase}'", phase in timers and timers[phase] >= 0))
+    for name, ok in checks:
+        print(("ok   " if ok else "FAIL ") + name)
+    failed = sum(not ok for _, ok in checks)
+    print(f"trace: {len(checks) - failed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
