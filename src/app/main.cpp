@@ -33,6 +33,12 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
   return 0;
 }
 
+// A run stopped by SIGTERM/SIGINT has written its checkpoint: exit 75 (EX_TEMPFAIL, "try again").
+int report_interrupted(const std::string& dir) {
+  std::fprintf(stderr, "sphdisk: interrupted by a signal; checkpoint written; continue with: sphdisk resume %s\n", dir.c_str());
+  return 75;
+}
+
 int cmd_report(const std::string& dir) {
   const std::string script = std::string(SPHDISK_SOURCE_DIR) + "/tools/report.py";
   if (!std::filesystem::exists(script)) throw sphdisk::UserError("report script '" + script + "' not found");
@@ -49,7 +55,7 @@ int main(int argc, char** argv) {
 
   std::string config_path, output_dir, trace_file, snapshot, json_path, run_dir;
   std::vector<std::string> overrides;
-  bool overwrite = false, quiet = false, help_config = false;
+  bool overwrite = false, quiet = false, help_config = false, check_only = false;
   int threads = 0, bins = 50;
 
   CLI::App* run = app.add_subcommand("run", "run a simulation from a TOML configuration");
@@ -62,6 +68,15 @@ int main(int argc, char** argv) {
   run->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   run->add_flag("--quiet,-q", quiet, "no progress lines");
   run->add_flag("--help-config", help_config, "list every configuration key with its default and exit");
+  run->add_flag("--check", check_only, "validate the configuration, print it resolved, and exit");
+
+  CLI::App* resume = app.add_subcommand("resume", "continue an interrupted run from its checkpoint");
+  resume->add_option("dir", run_dir, "run directory holding checkpoint.hdf5")->required();
+  resume->add_option("--set", overrides, "override a key, e.g. run.threads or a longer output.tau (repeatable)")
+      ->allow_extra_args(false);
+  resume->add_option("--threads,-t", threads, "threads (overrides run.threads)");
+  resume->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
+  resume->add_flag("--quiet,-q", quiet, "no progress lines");
 
   CLI::App* analyze = app.add_subcommand("analyze", "compare a ring snapshot with the analytic solution");
   analyze->add_option("snapshot", snapshot, "snapshot file (HDF5)")->required();
@@ -86,13 +101,25 @@ int main(int argc, char** argv) {
       if (config_path.empty()) throw sphdisk::UserError("run needs a configuration file, e.g. sphdisk run configs/ring.toml");
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
       const sphdisk::Config cfg = sphdisk::load_config(config_path, overrides);
+      if (check_only) {
+        std::cout << cfg.resolved_toml;
+        return 0;
+      }
       sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet};
       const auto summary = sphdisk::run_simulation(cfg, opts);
+      if (summary.interrupted) return report_interrupted(summary.output_dir);
       // The accuracy table of the last snapshot (the README's main job ends with it).
       char last[64];
       std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_tau.size());
       const auto path = std::filesystem::path(summary.output_dir) / last;
       if (std::filesystem::exists(path) && cfg.viscosity > 0) return cmd_analyze(path.string(), "", 50);
+      return 0;
+    }
+    if (*resume) {
+      if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
+      sphdisk::RunOptions opts{run_dir, false, trace_file, quiet};
+      const auto summary = sphdisk::resume_simulation(run_dir, opts, overrides);
+      if (summary.interrupted) return report_interrupted(summary.output_dir);
       return 0;
     }
     if (*analyze) return cmd_analyze(snapshot, json_path, bins);

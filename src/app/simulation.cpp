@@ -2,12 +2,14 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
+#include <sstream>
 
 #include "app/diagnostics.hpp"
 #include "app/rate_evaluator.hpp"
@@ -15,6 +17,7 @@
 #include "core/timers.hpp"
 #include "core/units.hpp"
 #include "integrate/integrator.hpp"
+#include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -30,6 +33,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kDim = 2;  // the ring is 2D (config check rejects others for now)
 constexpr long long kReorderInterval = 16;  // steps between cache-friendly reorderings by cell
+const char* const kCheckpointName = "checkpoint.hdf5";
+const char* const kDiagnosticsName = "diagnostics.csv";
+const char* const kDiagnosticsHeader =
+    "step,time,tau,dt,particles,mass,accreted_mass,kinetic_energy,internal_energy,angular_momentum,"
+    "accreted_angular_momentum,wall_time";
+
+// Set by SIGTERM / SIGINT; the run checkpoints and stops after the current step.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 std::string snapshot_name(const std::string& dir, std::size_t k) {
   char buf[32];
@@ -46,9 +58,10 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   if (!overwrite) {
     for (const auto& e : fs::directory_iterator(dir)) {
       const std::string name = e.path().filename().string();
-      if (name.rfind("snapshot_", 0) == 0 || name == "diagnostics.csv")
+      if (name.rfind("snapshot_", 0) == 0 || name == kDiagnosticsName || name == kCheckpointName)
         throw UserError("output directory '" + dir + "' already holds results (" + name +
-                        "); use --output for a new directory or --overwrite to replace them");
+                        "); use --output for a new directory, --overwrite to replace them, or `sphdisk resume " + dir +
+                        "` to continue");
     }
   }
   const std::string probe = (fs::path(dir) / ".sphdisk_write_test").string();
@@ -95,7 +108,7 @@ void check_finite(const Particles<D>& p, long long step) {
     if (!std::isfinite(p.pos[bad][k])) field = "position";
   }
   throw NumericalError("non-finite " + std::string(field) + " of particle ID " + std::to_string(p.id[bad]) +
-                       " at step " + std::to_string(step) + "; reduce the timestep factors or check the set-up");
+                       " at step " + std::to_string(step));
 }
 
 // Removes particles inside the accretion radius; their mass and L_z go to the central object.
@@ -116,187 +129,315 @@ void accrete(Particles<D>& p, double r_acc, double& accreted_mass, double& accre
   if (keep.size() != p.size()) p.gather(keep);
 }
 
-}  // namespace
-
-RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
-  const auto wall_start = Clock::now();
-  par::set_threads(cfg.threads);
-  if (!opts.trace_file.empty()) par::trace_enable(true);
-  const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
-
-  // Code units: length r0, mass M, G = 1 (core/units.hpp).
-  const UnitSystem units = UnitSystem::from_solar(cfg.ring_radius, cfg.central_mass);
-  const double rsun2_per_s = cgs::solar_radius * cgs::solar_radius * units.time_s / (units.length_cm * units.length_cm);
+// Everything the configuration implies in code units.
+struct Setup {
+  UnitSystem units;
   PhysicsParams phys;
-  phys.gm = 1.0;
-  phys.nu = cfg.viscosity * rsun2_per_s;
-  phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
-  phys.eos = cfg.eos == "isothermal" ? EquationOfState::Isothermal : EquationOfState::None;
-  phys.sound_speed = cfg.sound_speed * 1e5 / units.velocity_cm_per_s();
-  phys.evolve_energy = cfg.evolve_energy;
-  phys.accretion_radius = cfg.accretion_radius;
+  RingSetup ring;
+  double tau_rate;  // d tau / dt (r0 = 1); nu = 0 (pure Kepler test): tau then stands for the time
+  double tau_of_time(double t) const { return tau_rate > 0 ? t * tau_rate : t; }
+  double time_of_tau(double tau) const { return tau_rate > 0 ? tau / tau_rate : tau; }
+};
 
-  RingSetup setup;
-  setup.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, phys.nu};
-  setup.tau_start = cfg.tau_start;
-  setup.particles = static_cast<std::size_t>(cfg.particles);
-  setup.seed = static_cast<std::uint64_t>(cfg.seed);
-  setup.stratified = cfg.placement == "stratified";
-  setup.accretion_radius = cfg.accretion_radius;
-  // nu = 0 is allowed (pure Kepler test): tau then stands for the time itself.
-  const double tau_rate = 12.0 * phys.nu;  // d tau / dt with r0 = 1
-  auto time_of_tau = [&](double tau) { return tau_rate > 0 ? tau / tau_rate : tau; };
-  auto tau_of_time = [&](double t) { return tau_rate > 0 ? t * tau_rate : t; };
+Setup make_setup(const Config& cfg) {
+  Setup s;
+  // Code units: length r0, mass M, G = 1 (core/units.hpp).
+  s.units = UnitSystem::from_solar(cfg.ring_radius, cfg.central_mass);
+  const double rsun2_per_s = cgs::solar_radius * cgs::solar_radius * s.units.time_s / (s.units.length_cm * s.units.length_cm);
+  s.phys.gm = 1.0;
+  s.phys.nu = cfg.viscosity * rsun2_per_s;
+  s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
+  s.phys.eos = cfg.eos == "isothermal" ? EquationOfState::Isothermal : EquationOfState::None;
+  s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
+  s.phys.evolve_energy = cfg.evolve_energy;
+  s.phys.accretion_radius = cfg.accretion_radius;
+  s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
+  s.ring.tau_start = cfg.tau_start;
+  s.ring.particles = static_cast<std::size_t>(cfg.particles);
+  s.ring.seed = static_cast<std::uint64_t>(cfg.seed);
+  s.ring.stratified = cfg.placement == "stratified";
+  s.ring.accretion_radius = cfg.accretion_radius;
+  s.tau_rate = 12.0 * s.phys.nu;
+  return s;
+}
 
-  // Refuse up front what cannot fit: ~200 bytes of fields and scratch per particle plus two
-  // copies of its neighbour list (4 bytes each) while lists are rebuilt.
-  const double bytes_estimate = static_cast<double>(cfg.particles) * (200.0 + 8.0 * cfg.neighbours);
+// Refuse up front what cannot fit: ~200 bytes of fields and scratch per particle plus the
+// neighbour list (4 bytes index + 4 bytes kernel factor per entry) and its block copy.
+void check_memory(std::size_t particles, double neighbours) {
+  const double bytes_estimate = static_cast<double>(particles) * (200.0 + 12.0 * neighbours);
   const double bytes_available = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
   if (bytes_estimate > 0.9 * bytes_available) {
     char msg[256];
-    std::snprintf(msg, sizeof msg, "problem.particles = %lld needs about %.1f GiB but this machine has %.1f GiB; use fewer particles",
-                  cfg.particles, bytes_estimate / (1ull << 30), bytes_available / (1ull << 30));
+    std::snprintf(msg, sizeof msg, "%zu particles need about %.1f GiB but this machine has %.1f GiB; use fewer particles",
+                  particles, bytes_estimate / (1ull << 30), bytes_available / (1ull << 30));
     throw UserError(msg);
   }
+}
 
-  PhaseTimers timers;
-  Particles<kDim> p;
-  SnapshotMeta meta;
-  double t = 0;
-  {
-    ScopedPhase timer(timers, "setup");
-    if (!cfg.initial_conditions.empty()) {
-      p = read_snapshot<kDim>(cfg.initial_conditions, &units, meta);
-      t = meta.time;
-    } else {
-      p = make_ring(setup);
-      t = time_of_tau(cfg.tau_start);
+// Keeps the rows of diagnostics.csv up to `step` (a resumed run continues after its checkpoint).
+void truncate_diagnostics(const std::string& dir, long long step) {
+  const std::string path = (fs::path(dir) / kDiagnosticsName).string();
+  std::ifstream in(path);
+  std::ostringstream kept;
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (!header) {
+      const long long row_step = std::atoll(line.c_str());
+      if (row_step > step || line.find(',') == std::string::npos) break;
     }
+    kept << line << '\n';
+    header = false;
   }
-  std::vector<double> t_out;
-  for (double tau : cfg.output_tau) t_out.push_back(time_of_tau(tau));
-  if (t_out.back() <= t)
-    throw UserError("every output.tau is at or before the initial time (tau = " + std::to_string(tau_of_time(t)) +
-                    "); give output times after it");
-  // Inputs are valid: only now touch the output directory.
-  prepare_output_dir(dir, opts.overwrite);
-  write_text_file(dir, "config.toml", cfg.resolved_toml);
+  if (header) kept << kDiagnosticsHeader << '\n';
+  write_text_file(dir, kDiagnosticsName, kept.str());
+}
 
-  // h: given, or from the target mean neighbour number (analytically for the ring, measured on
-  // the particles for a user's file). Constant in time and global (P98 sec. 5.3).
-  const double h = cfg.smoothing_length > 0            ? cfg.smoothing_length
-                   : cfg.initial_conditions.empty()    ? ring_smoothing_length(setup, cfg.neighbours)
-                                                       : calibrate_smoothing_length(p.pos, p.id, cfg.neighbours);
-  for (auto& hi : p.h) hi = h;
+// One run from a state (fresh or checkpointed) to the last output time.
+class Runner {
+ public:
+  Runner(const Config& cfg, const RunOptions& opts, std::string dir, Particles<kDim> p, RunState state)
+      : cfg_(cfg), opts_(opts), dir_(std::move(dir)), setup_(make_setup(cfg)), p_(std::move(p)), s_(std::move(state)),
+        rates_(kernel_from_name(cfg.kernel), s_.smoothing_length, setup_.phys, timers_) {
+    IntegratorParams ip;
+    ip.scheme = scheme_from_name(cfg.scheme);
+    ip.tolerance = cfg.tolerance;
+    ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor};
+    if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
+    integrator_ = make_integrator<kDim>(ip, rates_);
+    for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));
+    meta_.viscosity = setup_.phys.nu;
+    meta_.ring_radius = 1.0;
+    meta_.disc_mass = setup_.ring.solution.disc_mass;
+    meta_.energy = cfg.evolve_energy;
+    meta_.units = setup_.units;
+    meta_.parameters = cfg.resolved;
+  }
 
-  IntegratorParams ip;
-  ip.scheme = scheme_from_name(cfg.scheme);
-  ip.tolerance = cfg.tolerance;
-  ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor};
-  if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
-  RateEvaluator<kDim> rates(kernel_from_name(cfg.kernel), h, phys, timers);
-  auto integrator = make_integrator<kDim>(ip, rates);
+  // A fresh run: rates of the initial state, snapshot_000, first diagnostics row.
+  void start() {
+    accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
+    if (p_.size() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
+    integrator_->start(p_);
+    check_finite(p_, 0);
+    while (static_cast<std::size_t>(s_.next_output) < t_out_.size() && t_out_[static_cast<std::size_t>(s_.next_output)] <= s_.time)
+      ++s_.next_output;  // outputs before the start are skipped
+    write_output(0);
+    open_diagnostics();
+    diagnostics_row(0.0);
+  }
 
-  double accreted_mass = meta.accreted_mass, accreted_lz = meta.accreted_angular_momentum;
-  accrete(p, phys.accretion_radius, accreted_mass, accreted_lz);
-  if (p.size() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
-  integrator->start(p);
-  check_finite(p, 0);
+  // A resumed run: the checkpoint holds the rates (acc, du_dt) and the integrator state.
+  void restart() {
+    integrator_->set_state(s_.integrator);
+    truncate_diagnostics(dir_, s_.step);
+    open_diagnostics();
+  }
 
-  meta.viscosity = phys.nu;
-  meta.ring_radius = 1.0;
-  meta.disc_mass = setup.solution.disc_mass;
-  meta.energy = cfg.evolve_energy;
-  meta.units = units;
-  meta.parameters = cfg.resolved;
-  auto write_output = [&](std::size_t k, long long step) {
-    ScopedPhase timer(timers, "io");
-    meta.time = t;
-    meta.tau = tau_of_time(t);
-    meta.accreted_mass = accreted_mass;
-    meta.accreted_angular_momentum = accreted_lz;
-    meta.step = step;
-    write_snapshot(snapshot_name(dir, k), p, meta);
-  };
+  RunSummary advance();
 
-  const std::string csv_path = (fs::path(dir) / "diagnostics.csv").string();
-  std::ofstream csv(csv_path);
-  if (!csv) throw UserError("cannot write '" + csv_path + "'");
-  csv << "step,time,tau,dt,particles,mass,accreted_mass,kinetic_energy,internal_energy,angular_momentum,"
-         "accreted_angular_momentum,wall_time\n";
-  csv.precision(17);
-  auto diagnostics_row = [&](long long step, double dt) {
-    ScopedPhase timer(timers, "diagnostics");
-    const GlobalSums s = global_sums(p, cfg.evolve_energy);
-    const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-    csv << step << ',' << t << ',' << tau_of_time(t) << ',' << dt << ',' << p.size() << ',' << s.mass << ','
-        << accreted_mass << ',' << s.kinetic_energy << ',' << s.internal_energy << ',' << s.angular_momentum << ','
-        << accreted_lz << ',' << wall << '\n';
-  };
+ private:
+  void open_diagnostics() {
+    const std::string path = (fs::path(dir_) / kDiagnosticsName).string();
+    const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
+    csv_.open(path, std::ios::app);
+    if (!csv_) throw UserError("cannot write '" + path + "'");
+    if (fresh) csv_ << kDiagnosticsHeader << '\n';
+    csv_.precision(17);
+  }
 
-  write_output(0, 0);
-  diagnostics_row(0, 0.0);
+  void write_output(std::size_t k) {
+    ScopedPhase timer(timers_, "io");
+    meta_.time = s_.time;
+    meta_.tau = setup_.tau_of_time(s_.time);
+    meta_.accreted_mass = s_.accreted_mass;
+    meta_.accreted_angular_momentum = s_.accreted_angular_momentum;
+    meta_.step = s_.step;
+    write_snapshot(snapshot_name(dir_, k), p_, meta_);
+  }
 
-  std::size_t next = 0;
-  while (next < t_out.size() && t_out[next] <= t) ++next;  // outputs before the start are skipped
-  const double t_begin = t, t_end = t_out.back();
+  void write_checkpoint_now() {
+    ScopedPhase timer(timers_, "io");
+    s_.integrator = integrator_->state();
+    csv_.flush();
+    write_checkpoint((fs::path(dir_) / kCheckpointName).string(), p_, s_);
+    last_checkpoint_ = Clock::now();
+  }
 
-  long long step = 0;
-  auto last_progress = Clock::now();
-  std::size_t updates = p.size();  // particle rate evaluations, for the throughput figure
-  while (next < t_out.size() && (cfg.max_steps == 0 || step < cfg.max_steps)) {
-    if (step % kReorderInterval == 0) {
-      ScopedPhase timer(timers, "reorder");
-      p.gather(build_cell_grid(p.pos, p.id, 2.0 * h).sorted);
-    }
-    const std::size_t evals_before = rates.evaluations();
-    const double dt_cap = t_out[next] - t;
-    const double dt = integrator->step(p, dt_cap);
-    updates += p.size() * (rates.evaluations() - evals_before);
-    t = dt >= dt_cap ? t_out[next] : t + dt;
-    ++step;
-    accrete(p, phys.accretion_radius, accreted_mass, accreted_lz);
-    check_finite(p, step);
-    if (p.size() == 0) throw UserError("all particles were accreted before the last output time");
-    diagnostics_row(step, dt);
-    if (t >= t_out[next]) {
-      write_output(++next, step);
-      csv.flush();
-    }
+  void diagnostics_row(double dt) {
+    ScopedPhase timer(timers_, "diagnostics");
+    const GlobalSums g = global_sums(p_, cfg_.evolve_energy);
+    csv_ << s_.step << ',' << s_.time << ',' << setup_.tau_of_time(s_.time) << ',' << dt << ',' << p_.size() << ','
+         << g.mass << ',' << s_.accreted_mass << ',' << g.kinetic_energy << ',' << g.internal_energy << ','
+         << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
+  }
+
+  double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
+
+  void progress(double dt, double t_begin, std::size_t updates) {
     const auto now = Clock::now();
-    if (!opts.quiet && cfg.progress_interval > 0 &&
-        std::chrono::duration<double>(now - last_progress).count() >= cfg.progress_interval) {
-      last_progress = now;
-      const double wall = std::chrono::duration<double>(now - wall_start).count();
-      const double frac = (t - t_begin) / (t_end - t_begin);
-      std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s\n", step,
-                   tau_of_time(t), 100 * frac, dt, p.size(), static_cast<double>(updates) / wall,
-                   format_duration(frac > 0 ? wall * (1 - frac) / frac : 0).c_str());
-    }
+    if (opts_.quiet || cfg_.progress_interval <= 0 ||
+        std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
+      return;
+    last_progress_ = now;
+    const double frac = (s_.time - t_begin) / (t_out_.back() - t_begin);
+    std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s\n", s_.step,
+                 setup_.tau_of_time(s_.time), 100 * frac, dt, p_.size(), static_cast<double>(updates) / wall(),
+                 format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str());
   }
-  csv.close();
-  if (!csv) throw UserError("cannot finish writing '" + csv_path + "' (disk full?)");
+
+  const Config& cfg_;
+  const RunOptions& opts_;
+  std::string dir_;
+  Setup setup_;
+  Particles<kDim> p_;
+  RunState s_;
+  PhaseTimers timers_;
+  RateEvaluator<kDim> rates_;
+  std::unique_ptr<Integrator<kDim>> integrator_;
+  std::vector<double> t_out_;
+  SnapshotMeta meta_;
+  std::ofstream csv_;
+  Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
+};
+
+RunSummary Runner::advance() {
+  const double t_begin = s_.time;
+  const long long steps_before = s_.step;
+  std::size_t updates = 0;  // particle rate evaluations, for the throughput figure
+  const double h = s_.smoothing_length;
+  auto old_term = std::signal(SIGTERM, on_stop_signal);
+  auto old_int = std::signal(SIGINT, on_stop_signal);
+  bool interrupted = false;
+  while (static_cast<std::size_t>(s_.next_output) < t_out_.size() &&
+         (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
+    const std::size_t next = static_cast<std::size_t>(s_.next_output);
+    if (s_.step % kReorderInterval == 0) {
+      ScopedPhase timer(timers_, "reorder");
+      p_.gather(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
+    }
+    const std::size_t evals_before = rates_.evaluations();
+    const double dt_cap = t_out_[next] - s_.time;
+    const double dt = integrator_->step(p_, dt_cap);
+    updates += p_.size() * (rates_.evaluations() - evals_before);
+    s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
+    ++s_.step;
+    accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
+    try {
+      check_finite(p_, s_.step);
+    } catch (const NumericalError& e) {
+      // Keep the evidence; the last good checkpoint is left untouched.
+      const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
+      write_snapshot(dump, p_, meta_);
+      throw NumericalError(std::string(e.what()) + "; state written to " + dump +
+                           ", last good checkpoint kept; reduce the timestep factors or check the set-up");
+    }
+    if (p_.size() == 0) throw UserError("all particles were accreted before the last output time");
+    diagnostics_row(dt);
+    bool checkpoint = false;
+    if (s_.time >= t_out_[next]) {
+      ++s_.next_output;
+      write_output(static_cast<std::size_t>(s_.next_output));
+      checkpoint = true;
+    }
+    if (cfg_.checkpoint_every_steps > 0 && s_.step % cfg_.checkpoint_every_steps == 0) checkpoint = true;
+    if (cfg_.checkpoint_every_seconds > 0 &&
+        std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds)
+      checkpoint = true;
+    if (g_stop_signal) checkpoint = interrupted = true;
+    if (checkpoint) write_checkpoint_now();
+    if (interrupted) break;
+    progress(dt, t_begin, updates);
+  }
+  std::signal(SIGTERM, old_term);
+  std::signal(SIGINT, old_int);
+  csv_.close();
+  if (!csv_) throw UserError("cannot finish writing diagnostics.csv in '" + dir_ + "' (disk full?)");
 
   RunSummary sum;
-  sum.steps = step;
-  sum.evaluations = rates.evaluations();
-  sum.particles_final = p.size();
-  sum.wall_seconds = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  sum.steps = s_.step - steps_before;
+  sum.evaluations = rates_.evaluations();
+  sum.particles_final = p_.size();
+  sum.wall_seconds = wall();
   sum.particle_updates_per_second = static_cast<double>(updates) / sum.wall_seconds;
-  sum.output_dir = dir;
-
-  write_text_file(dir, "timers.json", timers.json());
-  if (!opts.trace_file.empty() && !par::trace_write(opts.trace_file))
-    throw UserError("cannot write trace file '" + opts.trace_file + "'");
-  if (!opts.quiet) {
-    std::fprintf(stderr, "phase timers (%d threads):\n%s", par::max_threads(), timers.table().c_str());
+  sum.output_dir = dir_;
+  sum.interrupted = interrupted;
+  write_text_file(dir_, "timers.json", timers_.json());
+  if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file))
+    throw UserError("cannot write trace file '" + opts_.trace_file + "'");
+  if (!opts_.quiet) {
+    std::fprintf(stderr, "phase timers (%d threads):\n%s", par::max_threads(), timers_.table().c_str());
     std::fprintf(stderr,
-                 "done: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
+                 "%s: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
                  "(%.3g per thread), %zu rejected steps\n",
-                 step, sum.evaluations, sum.particles_final, sum.wall_seconds, sum.particle_updates_per_second,
-                 sum.particle_updates_per_second / par::max_threads(), integrator->rejected_steps());
+                 interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
+                 sum.particle_updates_per_second, sum.particle_updates_per_second / par::max_threads(),
+                 integrator_->rejected_steps());
   }
   return sum;
+}
+
+void apply_run_options(const Config& cfg, const RunOptions& opts) {
+  par::set_threads(cfg.threads);
+  if (!opts.trace_file.empty()) par::trace_enable(true);
+  g_stop_signal = 0;
+}
+
+}  // namespace
+
+RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
+  apply_run_options(cfg, opts);
+  const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
+  const Setup setup = make_setup(cfg);
+  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours);
+
+  Particles<kDim> p;
+  RunState state;
+  if (!cfg.initial_conditions.empty()) {
+    SnapshotMeta meta;
+    p = read_snapshot<kDim>(cfg.initial_conditions, &setup.units, meta);
+    state.time = meta.time;
+    state.accreted_mass = meta.accreted_mass;
+    state.accreted_angular_momentum = meta.accreted_angular_momentum;
+  } else {
+    p = make_ring(setup.ring);
+    state.time = setup.time_of_tau(cfg.tau_start);
+  }
+  if (setup.time_of_tau(cfg.output_tau.back()) <= state.time)
+    throw UserError("every output.tau is at or before the initial time (tau = " +
+                    std::to_string(setup.tau_of_time(state.time)) + "); give output times after it");
+  // h: given, or from the target mean neighbour number (analytically for the ring, measured on
+  // the particles for a user's file). Constant in time and global (P98 sec. 5.3).
+  state.smoothing_length = cfg.smoothing_length > 0           ? cfg.smoothing_length
+                           : cfg.initial_conditions.empty()   ? ring_smoothing_length(setup.ring, cfg.neighbours)
+                                                              : calibrate_smoothing_length(p.pos, p.id, cfg.neighbours);
+  for (auto& hi : p.h) hi = state.smoothing_length;
+  state.config_toml = cfg.resolved_toml;
+
+  // Inputs are valid: only now touch the output directory.
+  prepare_output_dir(dir, opts.overwrite);
+  if (opts.overwrite) {
+    std::error_code ec;
+    fs::remove(fs::path(dir) / kDiagnosticsName, ec);
+    fs::remove(fs::path(dir) / kCheckpointName, ec);
+  }
+  write_text_file(dir, "config.toml", cfg.resolved_toml);
+  Runner runner(cfg, opts, dir, std::move(p), std::move(state));
+  runner.start();
+  return runner.advance();
+}
+
+RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, const std::vector<std::string>& overrides) {
+  const std::string path = (fs::path(dir) / kCheckpointName).string();
+  if (!fs::exists(path))
+    throw UserError("no checkpoint in '" + dir + "' (expected " + kCheckpointName + "); start the run again with sphdisk run");
+  RunState state;
+  Particles<kDim> p = read_checkpoint(path, state);
+  const Config cfg = parse_config(state.config_toml, path, overrides);
+  apply_run_options(cfg, opts);
+  Runner runner(cfg, opts, dir, std::move(p), std::move(state));
+  runner.restart();
+  return runner.advance();
 }
 
 }  // namespace sphdisk

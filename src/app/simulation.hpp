@@ -2,6 +2,7 @@
 // The simulation driver: sets up the run, then advances it step by step, writing snapshots at
 // the requested viscous times, a diagnostics row per step and a progress line with ETA.
 #include <string>
+#include <vector>
 
 #include "core/config.hpp"
 
@@ -21,8 +22,13 @@ struct RunSummary {
   double wall_seconds = 0;
   double particle_updates_per_second = 0;  // particles x rate evaluations / wall time
   std::string output_dir;
+  bool interrupted = false;  // stopped by SIGTERM/SIGINT after writing a checkpoint
 };
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts);
+
+// Continues the run in `dir` from its checkpoint.hdf5 (same configuration; `overrides` may change
+// e.g. run.threads or extend output.tau). Any thread count gives the same bits.
+RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, const std::vector<std::string>& overrides);
 
 }  // namespace sphdisk

@@ -41,6 +41,9 @@ struct Config {
   std::vector<double> output_tau = {0.036, 0.054, 0.072, 0.090, 0.126};
   std::string output_dir = "runs/ring";
   double progress_interval = 5.0;  // seconds between progress lines; 0: none
+  // [checkpoint] (also written at every output and on SIGTERM / SIGINT)
+  long long checkpoint_every_steps = 0;     // 0: not by step count
+  double checkpoint_every_seconds = 600.0;  // wall-clock interval; 0: not by wall time
   // [run]
   int threads = 0;                 // 0: OpenMP default
   long long max_steps = 0;         // 0: no limit

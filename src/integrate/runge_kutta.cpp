@@ -84,6 +84,12 @@ class EmbeddedRungeKutta final : public Integrator<D> {
   }
 
   std::size_t rejected_steps() const override { return rejected_; }
+  std::vector<double> state() const override { return {dt_next_, static_cast<double>(rejected_)}; }
+  void set_state(const std::vector<double>& s) override {
+    if (s.size() != 2) throw UserError("checkpoint: the Runge-Kutta integrator state must hold 2 values");
+    dt_next_ = s[0];
+    rejected_ = static_cast<std::size_t>(s[1]);
+  }
 
  private:
   void save_initial_state(const Particles<D>& p) {

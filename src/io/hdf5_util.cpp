@@ -100,6 +100,20 @@ std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const 
   return v;
 }
 
+std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file) {
+  if (!has_attr(obj, name)) fail("'" + file + "' lacks the attribute '" + name + "'");
+  Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
+  Handle type(H5Aget_type(attr), H5Tclose);
+  if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0)
+    fail("'" + file + "': attribute '" + name + "' is not a fixed-length string");
+  const std::size_t size = H5Tget_size(type);
+  if (size == 0 || size > (1u << 26)) fail("'" + file + "': attribute '" + name + "' has an invalid size");
+  std::string v(size, '\0');
+  if (H5Aread(attr, type, v.data()) < 0) fail("'" + file + "': cannot read attribute '" + name + "'");
+  v.resize(v.find('\0') == std::string::npos ? v.size() : v.find('\0'));
+  return v;
+}
+
 double read_attr_double(hid_t obj, const std::string& name, const std::string& file) {
   return read_attr_doubles(obj, name, file).front();
 }

@@ -1,0 +1,129 @@
+#include "io/checkpoint.hpp"
+
+#include <cstdio>
+#include <cstring>
+
+#include "core/error.hpp"
+#include "io/hdf5_util.hpp"
+#include "io/snapshot.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+constexpr int kDim = 2;
+constexpr long long kFormatVersion = 1;
+
+// FNV-1a, 64 bit: cheap and order-sensitive, enough to detect corruption (not tampering).
+struct Checksum {
+  std::uint64_t h = 1469598103934665603ull;
+  void add(const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  }
+  void add(double v) { add(&v, sizeof v); }
+  void add(long long v) { add(&v, sizeof v); }
+};
+
+template <class T>
+std::size_t components() {
+  if constexpr (std::is_same_v<T, Vec<kDim>>) return kDim;
+  else if constexpr (std::is_same_v<T, Mat<kDim>>) return kDim * kDim;
+  else return 1;
+}
+
+void add_state(Checksum& c, const RunState& s) {
+  c.add(s.time);
+  c.add(s.step);
+  c.add(s.next_output);
+  c.add(s.accreted_mass);
+  c.add(s.accreted_angular_momentum);
+  c.add(s.smoothing_length);
+  for (double v : s.integrator) c.add(v);
+  c.add(s.config_toml.data(), s.config_toml.size());
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
+  const std::string tmp = path + ".tmp";
+  Checksum sum;
+  add_state(sum, s);
+  try {
+    h5::Handle file = h5::create_file(tmp);
+    h5::Handle g = h5::create_group(file, "Checkpoint");
+    h5::write_attr(g, "FormatVersion", kFormatVersion);
+    h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
+    h5::write_attr(g, "Time", s.time);
+    h5::write_attr(g, "Step", s.step);
+    h5::write_attr(g, "NextOutput", s.next_output);
+    h5::write_attr(g, "AccretedMass", s.accreted_mass);
+    h5::write_attr(g, "AccretedAngularMomentum", s.accreted_angular_momentum);
+    h5::write_attr(g, "SmoothingLength", s.smoothing_length);
+    h5::write_attr(g, "IntegratorState", s.integrator.empty() ? std::vector<double>{0.0} : s.integrator);
+    h5::write_attr(g, "IntegratorStateSize", static_cast<long long>(s.integrator.size()));
+    h5::write_attr(g, "Config", s.config_toml);
+    h5::write_attr(g, "NumParticles", static_cast<long long>(p.size()));
+    h5::Handle parts = h5::create_group(file, "Particles");
+    p.for_each_field([&](const FieldInfo& info, const auto& field) {
+      if (!(info.flags & kCheckpoint)) return;
+      using T = typename std::decay_t<decltype(field)>::value_type;
+      sum.add(field.data(), field.size() * sizeof(T));
+      const std::string name(info.name);
+      if constexpr (std::is_same_v<T, std::uint64_t>)
+        h5::write_dataset(parts, name, field.data(), field.size());
+      else
+        h5::write_dataset(parts, name, reinterpret_cast<const double*>(field.data()), field.size(), components<T>());
+    });
+    h5::write_attr(g, "Checksum", std::to_string(sum.h));
+    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("cannot flush '" + tmp + "' (disk full?)");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  publish_file(tmp, path);
+}
+
+Particles<2> read_checkpoint(const std::string& path, RunState& s) {
+  h5::Handle file = h5::open_file_readonly(path);
+  h5::Handle g = h5::open_group(file, "Checkpoint", path);
+  auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
+  if (num("FormatVersion") != static_cast<double>(kFormatVersion) || num("Dimension") != kDim)
+    throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
+  s.time = num("Time");
+  s.step = static_cast<long long>(num("Step"));
+  s.next_output = static_cast<long long>(num("NextOutput"));
+  s.accreted_mass = num("AccretedMass");
+  s.accreted_angular_momentum = num("AccretedAngularMomentum");
+  s.smoothing_length = num("SmoothingLength");
+  s.integrator = h5::read_attr_doubles(g, "IntegratorState", path);
+  s.integrator.resize(static_cast<std::size_t>(num("IntegratorStateSize")));
+  s.config_toml = h5::read_attr_string(g, "Config", path);
+  const auto n = static_cast<std::size_t>(num("NumParticles"));
+
+  Checksum sum;
+  add_state(sum, s);
+  h5::Handle parts = h5::open_group(file, "Particles", path);
+  Particles<2> p;
+  p.resize(n);
+  p.for_each_field([&](const FieldInfo& info, auto& field) {
+    if (!(info.flags & kCheckpoint)) return;
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    const std::string name(info.name);
+    if constexpr (std::is_same_v<T, std::uint64_t>) {
+      field = h5::read_dataset_u64(parts, name, path);
+    } else {
+      std::size_t rows, cols;
+      const std::vector<double> raw = h5::read_dataset_doubles(parts, name, path, rows, cols);
+      if (rows != n || cols != components<T>()) throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong shape");
+      std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
+    }
+    if (field.size() != n) throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");
+    sum.add(field.data(), field.size() * sizeof(T));
+  });
+  if (h5::read_attr_string(g, "Checksum", path) != std::to_string(sum.h))
+    throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
+  return p;
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,31 @@
+#pragma once
+// Checkpoints: everything needed to continue a run bit-for-bit, in one HDF5 file (portable across
+// machines, thread and rank counts). Particles are stored in memory order with every field flagged
+// kCheckpoint; the run state (time, step, next output, accretion tallies, integrator state) and the
+// resolved configuration are attributes. A 64-bit checksum over all of it detects corruption.
+// Written atomically (temporary file, fsync, rename): the previous checkpoint stays intact until
+// the new one is complete.
+#include <string>
+#include <vector>
+
+#include "core/particles.hpp"
+
+namespace sphdisk {
+
+struct RunState {
+  double time = 0;
+  long long step = 0;
+  long long next_output = 0;        // index into output.tau of the next snapshot
+  double accreted_mass = 0;
+  double accreted_angular_momentum = 0;
+  double smoothing_length = 0;
+  std::vector<double> integrator;   // the integrator's own state (e.g. next RK step size)
+  std::string config_toml;          // resolved configuration of the run
+};
+
+void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s);
+
+// Throws UserError if the file is missing, truncated, corrupt (checksum) or not a checkpoint.
+Particles<2> read_checkpoint(const std::string& path, RunState& s);
+
+}  // namespace sphdisk
