@@ -10,6 +10,7 @@ packages=(
   libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   libtomlplusplus-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-h5py python3-yt
 )
 

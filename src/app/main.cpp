@@ -49,6 +49,14 @@ int cmd_report(const std::string& dir) {
 
 }  // namespace
 
+// Prints the one-line error and leaves without running library teardown: after a failed write (full
+// disk) HDF5 1.10 keeps the half-closed file in its tables and crashes in its atexit handler.
+[[noreturn]] static void exit_after_error(int code, const char* kind, const std::string& what) {
+  std::fprintf(stderr, "sphdisk: %s: %s\n", kind, sphdisk::one_line(what).c_str());
+  std::fflush(nullptr);
+  std::_Exit(code);
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"sphdisk: parallel SPH for viscous accretion discs"};
   app.require_subcommand(1);
@@ -125,14 +133,11 @@ int main(int argc, char** argv) {
     if (*analyze) return cmd_analyze(snapshot, json_path, bins);
     if (*report) return cmd_report(run_dir);
   } catch (const sphdisk::UserError& e) {
-    std::fprintf(stderr, "sphdisk: error: %s\n", e.what());
-    return 2;
+    exit_after_error(2, "error", e.what());
   } catch (const sphdisk::NumericalError& e) {
-    std::fprintf(stderr, "sphdisk: numerical error: %s\n", e.what());
-    return 3;
+    exit_after_error(3, "numerical error", e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "sphdisk: internal error: %s\n", e.what());
-    return 4;
+    exit_after_error(4, "internal error", e.what());
   }
   return 0;
 }

@@ -17,6 +17,7 @@
 #include "core/timers.hpp"
 #include "core/units.hpp"
 #include "integrate/integrator.hpp"
+#include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
 #include "neighbours/cell_grid.hpp"
@@ -70,15 +71,8 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::remove(probe, ec);
 }
 
-// Writes text to dir/name atomically (temporary file, fsync, rename).
 void write_text_file(const std::string& dir, const std::string& name, const std::string& text) {
-  const std::string final_path = (fs::path(dir) / name).string(), tmp = final_path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f.flush()) throw UserError("cannot write '" + tmp + "' (disk full?)");
-  }
-  publish_file(tmp, final_path);
+  write_text_atomically((fs::path(dir) / name).string(), text);
 }
 
 std::string format_duration(double s) {
@@ -219,7 +213,7 @@ class Runner {
     accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
     if (p_.size() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
     integrator_->start(p_);
-    check_finite(p_, 0);
+    check_finite_or_dump();
     while (static_cast<std::size_t>(s_.next_output) < t_out_.size() && t_out_[static_cast<std::size_t>(s_.next_output)] <= s_.time)
       ++s_.next_output;  // outputs before the start are skipped
     write_output(0);
@@ -254,6 +248,18 @@ class Runner {
     meta_.accreted_angular_momentum = s_.accreted_angular_momentum;
     meta_.step = s_.step;
     write_snapshot(snapshot_name(dir_, k), p_, meta_);
+  }
+
+  // Stops on NaN/Inf, keeping the evidence in a debug dump; the last good checkpoint is untouched.
+  void check_finite_or_dump() {
+    try {
+      check_finite(p_, s_.step);
+    } catch (const NumericalError& e) {
+      const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
+      write_snapshot(dump, p_, meta_);
+      throw NumericalError(std::string(e.what()) + "; state written to " + dump +
+                           ", last good checkpoint kept; reduce the timestep factors or check the set-up");
+    }
   }
 
   void write_checkpoint_now() {
@@ -323,15 +329,7 @@ RunSummary Runner::advance() {
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
     accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
-    try {
-      check_finite(p_, s_.step);
-    } catch (const NumericalError& e) {
-      // Keep the evidence; the last good checkpoint is left untouched.
-      const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
-      write_snapshot(dump, p_, meta_);
-      throw NumericalError(std::string(e.what()) + "; state written to " + dump +
-                           ", last good checkpoint kept; reduce the timestep factors or check the set-up");
-    }
+    check_finite_or_dump();
     if (p_.size() == 0) throw UserError("all particles were accreted before the last output time");
     diagnostics_row(dt);
     bool checkpoint = false;

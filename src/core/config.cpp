@@ -6,7 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include <toml++/toml.h>
+#include "core/toml.hpp"
 
 #include "core/error.hpp"
 
@@ -214,6 +214,52 @@ void apply_node(const std::string& name, const toml::node& node, Config& c, cons
   if (auto e = def->apply(node, c); !e.empty()) throw UserError(where + ": " + name + " " + e + " (" + def->help + ")");
 }
 
+// Control characters are not allowed in TOML (besides tab and line breaks), and non-ASCII text
+// belongs in strings and comments. Refusing the rest here keeps it away from toml++ 3.3 parser
+// paths that are undefined behaviour on such input (found by fuzzing: fuzz/, and the regression
+// inputs in tests/fuzz_regressions/).
+void check_toml_characters(const std::string& text, const std::string& source) {
+  enum class In { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } in = In::Code;
+  std::size_t line = 1;
+  auto fail = [&](const std::string& what, const std::string& fix) {
+    throw UserError(source + ":" + std::to_string(line) + ": " + what + "; " + fix);
+  };
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const auto u = static_cast<unsigned char>(text[k]);
+    const bool starts3 = k + 2 < text.size() && text[k + 1] == text[k] && text[k + 2] == text[k];
+    if (u == '\n') {
+      ++line;
+      if (in == In::Comment || in == In::Basic || in == In::Literal) in = In::Code;  // single-line forms end
+      continue;
+    }
+    if ((u < 0x20 && u != '\t' && u != '\r') || u == 0x7f) fail("control character (code " + std::to_string(u) + ")", "remove it: TOML allows only tab and line breaks");
+    switch (in) {
+      case In::Code:
+        if (u >= 0x80) fail("non-ASCII character outside a string or comment", "keys and bare values must be plain ASCII");
+        if (u == '#') in = In::Comment;
+        else if (u == '"') in = starts3 ? (k += 2, In::MultiBasic) : In::Basic;
+        else if (u == '\'') in = starts3 ? (k += 2, In::MultiLiteral) : In::Literal;
+        break;
+      case In::Basic:
+        if (u == '\\') ++k;
+        else if (u == '"') in = In::Code;
+        break;
+      case In::MultiBasic:
+        if (u == '\\') ++k;
+        else if (u == '"' && starts3) k += 2, in = In::Code;
+        break;
+      case In::Literal:
+        if (u == '\'') in = In::Code;
+        break;
+      case In::MultiLiteral:
+        if (u == '\'' && starts3) k += 2, in = In::Code;
+        break;
+      case In::Comment:
+        break;
+    }
+  }
+}
+
 void check_consistency(const Config& c) {
   if (c.accretion_radius >= 1.0)
     throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
@@ -233,13 +279,16 @@ void check_consistency(const Config& c) {
 Config parse_config(const std::string& toml_text_in, const std::string& source_name,
                     const std::vector<std::string>& overrides) {
   Config c;
+  check_toml_characters(toml_text_in, source_name);
   toml::table table;
   try {
     table = toml::parse(toml_text_in, source_name);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
     throw UserError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) +
-                    ": invalid TOML: " + std::string(e.description()));
+                    ": invalid TOML: " + one_line(std::string(e.description())));
+  } catch (const TomlCheckFailed&) {
+    throw UserError(source_name + ": invalid TOML (malformed key or table header)");
   }
   std::vector<std::pair<std::string, const toml::node*>> entries;
   flatten(table, "", entries);
@@ -253,7 +302,7 @@ Config parse_config(const std::string& toml_text_in, const std::string& source_n
     toml::table one;
     try {
       one = toml::parse("v = " + value);
-    } catch (const toml::parse_error&) {
+    } catch (const std::exception&) {  // toml::parse_error or TomlCheckFailed
       one = toml::table{{"v", value}};  // a bare word is a string: --set integrator.scheme=rk23
     }
     apply_node(key, *one.get("v"), c, "--set " + key);

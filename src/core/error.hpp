@@ -17,4 +17,19 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Messages are one line: control characters (e.g. a newline quoted from a bad input) are escaped.
+inline std::string one_line(const std::string& s) {
+  std::string out;
+  for (const char ch : s) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u >= 0x20 && u != 0x7f) {
+      out += ch;
+      continue;
+    }
+    static const char* hex = "0123456789abcdef";
+    out += ch == '\n' ? std::string("\\n") : ch == '\t' ? std::string("\\t") : std::string("\\x") + hex[u >> 4] + hex[u & 15];
+  }
+  return out;
+}
+
 }  // namespace sphdisk

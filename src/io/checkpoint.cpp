@@ -1,9 +1,11 @@
 #include "io/checkpoint.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "io/hdf5_util.hpp"
 #include "io/snapshot.hpp"
 
@@ -46,11 +48,9 @@ void add_state(Checksum& c, const RunState& s) {
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
-  const std::string tmp = path + ".tmp";
   Checksum sum;
   add_state(sum, s);
-  try {
-    h5::Handle file = h5::create_file(tmp);
+  write_hdf5_atomically(path, [&](hid_t file) {
     h5::Handle g = h5::create_group(file, "Checkpoint");
     h5::write_attr(g, "FormatVersion", kFormatVersion);
     h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
@@ -76,34 +76,41 @@ void write_checkpoint(const std::string& path, const Particles<2>& p, const RunS
         h5::write_dataset(parts, name, reinterpret_cast<const double*>(field.data()), field.size(), components<T>());
     });
     h5::write_attr(g, "Checksum", std::to_string(sum.h));
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("cannot flush '" + tmp + "' (disk full?)");
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
-  }
-  publish_file(tmp, path);
+  });
 }
 
-Particles<2> read_checkpoint(const std::string& path, RunState& s) {
+namespace {
+Particles<2> read_checkpoint_unisolated(const std::string& path, RunState& s) {
   h5::Handle file = h5::open_file_readonly(path);
   h5::Handle g = h5::open_group(file, "Checkpoint", path);
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
   if (num("FormatVersion") != static_cast<double>(kFormatVersion) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
+  auto count = [&](const char* name) {  // a non-negative integer stored as a number
+    const double v = num(name);
+    if (!(v >= 0 && v <= 9.0e15 && v == std::floor(v)))
+      throw UserError("'" + path + "': checkpoint attribute '" + std::string(name) + "' is not a valid count (corrupt file?)");
+    return static_cast<long long>(v);
+  };
   s.time = num("Time");
-  s.step = static_cast<long long>(num("Step"));
-  s.next_output = static_cast<long long>(num("NextOutput"));
+  s.step = count("Step");
+  s.next_output = count("NextOutput");
   s.accreted_mass = num("AccretedMass");
   s.accreted_angular_momentum = num("AccretedAngularMomentum");
   s.smoothing_length = num("SmoothingLength");
   s.integrator = h5::read_attr_doubles(g, "IntegratorState", path);
-  s.integrator.resize(static_cast<std::size_t>(num("IntegratorStateSize")));
+  const double state_size = num("IntegratorStateSize");
+  if (!(state_size >= 0 && state_size <= static_cast<double>(s.integrator.size())))
+    throw UserError("'" + path + "': checkpoint integrator state is inconsistent (corrupt file?)");
+  s.integrator.resize(static_cast<std::size_t>(state_size));
   s.config_toml = h5::read_attr_string(g, "Config", path);
-  const auto n = static_cast<std::size_t>(num("NumParticles"));
+  const double n_attr = num("NumParticles");
 
   Checksum sum;
   add_state(sum, s);
   h5::Handle parts = h5::open_group(file, "Particles", path);
+  const std::size_t n = h5::read_dataset_u64(parts, "id", path).size();  // size-checked by the reader
+  if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<2> p;
   p.resize(n);
   p.for_each_field([&](const FieldInfo& info, auto& field) {
@@ -124,6 +131,15 @@ Particles<2> read_checkpoint(const std::string& path, RunState& s) {
   if (h5::read_attr_string(g, "Checksum", path) != std::to_string(sum.h))
     throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
   return p;
+}
+}  // namespace
+
+Particles<2> read_checkpoint(const std::string& path, RunState& s) {
+  h5::isolate_library_crashes(path, [&] {
+    RunState tmp;
+    read_checkpoint_unisolated(path, tmp);
+  });
+  return read_checkpoint_unisolated(path, s);
 }
 
 }  // namespace sphdisk

@@ -1,5 +1,10 @@
 #include "io/hdf5_util.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+
 #include "core/error.hpp"
 
 namespace sphdisk::h5 {
@@ -23,6 +28,30 @@ void write_attr_raw(hid_t obj, const std::string& name, hid_t type, const void* 
   if (!attr.valid() || H5Awrite(attr, type, data) < 0) fail("HDF5: cannot write attribute '" + name + "'");
 }
 }  // namespace
+
+void isolate_library_crashes(const std::string& path, const std::function<void()>& read_all) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return;  // no isolation available: read directly
+  if (pid == 0) {
+    int code = 0;
+    try {
+      read_all();
+    } catch (const UserError&) {
+      code = 3;
+    } catch (...) {
+      code = 4;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  if (::waitpid(pid, &status, 0) < 0) return;
+  const bool clean = WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 3);
+  if (!clean)
+    fail("'" + path + "' is corrupt: reading it crashed the HDF5 library (" +
+         (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status)) : "exit " + std::to_string(WEXITSTATUS(status))) +
+         "); use another copy");
+}
 
 void silence_errors() {
   static const bool done = [] {
@@ -123,7 +152,7 @@ void write_dataset(hid_t group, const std::string& name, const double* data, std
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
   Handle ds(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
   if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail("HDF5: cannot write dataset '" + name + "' (disk full?)");
+    fail("HDF5 could not write dataset '" + name + "'");
 }
 
 void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows) {
@@ -131,7 +160,7 @@ void write_dataset(hid_t group, const std::string& name, const std::uint64_t* da
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
   Handle ds(H5Dcreate2(group, name.c_str(), H5T_STD_U64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
   if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail("HDF5: cannot write dataset '" + name + "' (disk full?)");
+    fail("HDF5 could not write dataset '" + name + "'");
 }
 
 namespace {
@@ -146,6 +175,12 @@ Handle open_dataset_shape(hid_t group, const std::string& name, const std::strin
   H5Sget_simple_extent_dims(space, dims, nullptr);
   rows = dims[0];
   cols = rank == 2 ? dims[1] : 1;
+  // A corrupt header can claim any size: refuse what could not fit in memory before allocating.
+  const double bytes = static_cast<double>(rows) * static_cast<double>(cols) * 8.0;
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  if (cols > 64 || bytes > 0.5 * memory)
+    fail("'" + file + "': dataset '" + name + "' claims " + std::to_string(rows) + " x " + std::to_string(cols) +
+         " values, more than this machine can hold (corrupt file?)");
   return ds;
 }
 }  // namespace

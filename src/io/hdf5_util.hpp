@@ -4,6 +4,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,12 @@ class Handle {
 };
 
 void silence_errors();  // turn off HDF5's automatic error stack printing (once per process)
+
+// Runs read_all() in a forked child first. The HDF5 library (1.10) can crash on corrupt metadata
+// (fuzzing found heap errors inside it: tests/fuzz_regressions/); a crash in the child becomes a
+// UserError here instead of taking the run down. The child's UserErrors are left for the real read
+// in this process to report.
+void isolate_library_crashes(const std::string& path, const std::function<void()>& read_all);
 
 Handle create_file(const std::string& path);
 Handle open_file_readonly(const std::string& path);  // throws UserError naming the path

@@ -8,9 +8,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
-#include <toml++/toml.h>
+#include "core/toml.hpp"
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "io/hdf5_util.hpp"
 
 namespace sphdisk {
@@ -90,35 +91,13 @@ std::vector<T> in_id_order(const std::vector<T>& v, const std::vector<std::size_
 
 }  // namespace
 
-void publish_file(const std::string& tmp_path, const std::string& final_path) {
-  const int fd = ::open(tmp_path.c_str(), O_RDONLY);
-  if (fd < 0 || ::fsync(fd) != 0) {
-    if (fd >= 0) ::close(fd);
-    std::remove(tmp_path.c_str());
-    throw UserError("cannot flush '" + tmp_path + "' to disk (disk full or I/O error)");
-  }
-  ::close(fd);
-  if (std::rename(tmp_path.c_str(), final_path.c_str()) != 0) {
-    std::remove(tmp_path.c_str());
-    throw UserError("cannot rename '" + tmp_path + "' to '" + final_path + "'");
-  }
-  const std::string dir = std::filesystem::path(final_path).parent_path().string();
-  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
-}
-
 template <int D>
 void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta) {
-  const std::string tmp = path + ".tmp";
   const std::size_t n = p.size();
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
-  try {
-    h5::Handle file = h5::create_file(tmp);
+  write_hdf5_atomically(path, [&](hid_t file) {
     SnapshotMeta m = meta;
     for (const auto& x : p.pos)
       for (int c = 0; c < D; ++c) m.box_size = std::max(m.box_size, 2.0 * std::abs(x[c]));
@@ -147,16 +126,12 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
         h5::write_dataset(g, name, flat.data(), n, D * D);
       }
     });
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("cannot flush '" + tmp + "' (disk full?)");
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
-  }
-  publish_file(tmp, path);
+  });
 }
 
+namespace {
 template <int D>
-Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
+Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
   h5::Handle file = h5::open_file_readonly(path);
   h5::Handle header = h5::open_group(file, "Header", path);
   meta.time = h5::read_attr_double(header, "Time", path);
@@ -166,7 +141,8 @@ Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units
   meta.tau = optional("ViscousTime", -1);
   meta.accreted_mass = optional("AccretedMass", 0);
   meta.accreted_angular_momentum = optional("AccretedAngularMomentum", 0);
-  meta.step = static_cast<long long>(optional("Step", 0));
+  const double step = optional("Step", 0);
+  meta.step = step >= 0 && step <= 9.0e15 ? static_cast<long long>(step) : 0;
 
   // Scale factors from file units to code units; without /Units the file is taken as code units.
   double fl = 1, fm = 1, ft = 1;
@@ -232,6 +208,16 @@ Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units
   for (double m : p.mass)
     if (!(m > 0)) throw UserError("'" + path + "': PartType0/Masses must be positive");
   return p;
+}
+}  // namespace
+
+template <int D>
+Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
+  h5::isolate_library_crashes(path, [&] {
+    SnapshotMeta m;
+    read_snapshot_unisolated<D>(path, code_units, m);
+  });
+  return read_snapshot_unisolated<D>(path, code_units, meta);
 }
 
 template void write_snapshot(const std::string&, const Particles<2>&, const SnapshotMeta&);

@@ -36,7 +36,5 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
 template <int D>
 Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta);
 
-// Atomic publication: fsync(tmp) then rename(tmp, final) and fsync of the directory.
-void publish_file(const std::string& tmp_path, const std::string& final_path);
 
 }  // namespace sphdisk

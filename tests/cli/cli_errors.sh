@@ -47,6 +47,33 @@ expect_error bad-set "expected section.key=value" -- run "$(dirname "$0")/../val
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 
+# A particle count that cannot fit in memory is refused up front with the estimate.
+expect_error memory "particles need about .* GiB but this machine has" -- run "$(dirname "$0")/../validation/small_ring.toml" --set problem.particles=2000000000 -o "$work/o5"
+
+# A full disk (simulated by a file-size limit, with SIGXFSZ ignored so writes fail with EFBIG): one
+# line naming the file and the fix, and no partial snapshot left behind.
+full_disk() { (trap '' XFSZ; ulimit -f 100; exec "$sphdisk" "$@"); }
+full_disk run -q "$(dirname "$0")/../validation/small_ring.toml" -o "$work/full" > /dev/null 2> "$work/err"
+rc=$?
+if [ $rc -eq 2 ] && [ "$(wc -l < "$work/err")" -eq 1 ] && grep -q "cannot write .*snapshot_000.hdf5.*free disk space" "$work/err" &&
+   [ -z "$(find "$work/full" -name '*.hdf5*')" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL full-disk: rc=$rc $(cat "$work/err"); files: $(ls "$work/full")"
+fi
+
+# Inputs that once crashed the parsers (found by fuzzing, fuzz/) now get a clean one-line error.
+regressions="$(dirname "$0")/../fuzz_regressions"
+for f in "$regressions"/*.toml; do
+  expect_error "fuzz-$(basename "$f")" "$(basename "$f")" -- run "$f" --check -o "$work/o1"
+done
+for f in "$regressions"/*.hdf5; do
+  expect_error "fuzz-$(basename "$f")" "$(basename "$f")" -- analyze "$f"
+  rm -rf "$work/r" && mkdir "$work/r" && cp "$f" "$work/r/checkpoint.hdf5"
+  expect_error "fuzz-resume-$(basename "$f")" "checkpoint.hdf5" -- resume "$work/r"
+  expect_error "fuzz-ic-$(basename "$f")" "$(basename "$f")" -- run "$(dirname "$0")/../validation/small_ring.toml" --set "problem.initial_conditions=\"$f\"" -o "$work/o4"
+done
+
 # Existing outputs are never overwritten without --overwrite.
 small=(--set problem.particles=500 --set 'output.tau=[0.0182]' --set output.progress_interval=0)
 "$sphdisk" run -q "${small[@]}" -o "$work/run" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1

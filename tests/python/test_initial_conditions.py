@@ -19,6 +19,37 @@ import numpy as np
 RSUN, MSUN, G = 6.957e10, 1.98841e33, 6.67430e-8
 
 
+def non_finite_stops_with_dump(exe, config, tmp):
+    """A particle at the centre (no accretion radius) has an undefined gravitational acceleration: the
+    run must stop naming particle, field and step, exit 3, and leave a readable debug dump."""
+    n = 2000
+    rng = np.random.default_rng(1)
+    r = 1 + 0.05 * rng.standard_normal(n)
+    phi = rng.uniform(0, 2 * np.pi, n)
+    r[7] = 0.0
+    v = np.where(r > 0, 1 / np.sqrt(np.maximum(r, 1e-3)), 0.0)
+    ic = tmp / "centre.hdf5"
+    with h5py.File(ic, "w") as f:
+        f.create_group("Header").attrs["Time"] = 40.0
+        g = f.create_group("PartType0")
+        g["Coordinates"] = np.c_[r * np.cos(phi), r * np.sin(phi), np.zeros(n)]
+        g["Velocities"] = np.c_[-v * np.sin(phi), v * np.cos(phi), np.zeros(n)]
+        g["Masses"] = np.full(n, 1e-10 / n)
+        g["ParticleIDs"] = np.arange(n, dtype=np.uint64)
+    out = tmp / "nan_run"
+    p = subprocess.run([exe, "run", str(config), "-q", "-o", str(out), "--set", f'problem.initial_conditions="{ic}"',
+                        "--set", "physics.accretion_radius=0.0"], capture_output=True, text=True)
+    dump = out / "debug_step_0.hdf5"
+    named = all(w in p.stderr for w in ("non-finite acceleration", "particle ID 7", "step 0", str(dump)))
+    with h5py.File(dump) as d:
+        acc = d["PartType0/Acceleration"][:] if "PartType0/Acceleration" in d else None
+        ids = d["PartType0/ParticleIDs"][:]
+    bad_in_dump = acc is not None and not np.isfinite(acc[ids == 7]).all() and np.isfinite(acc[ids != 7]).all()
+    return [("non-finite value stops the run with exit 3", p.returncode == 3 and p.stderr.count("\n") == 1),
+            ("error names field, particle and step", named),
+            ("debug dump holds the bad particle", bad_in_dump)]
+
+
 def main():
     exe = sys.argv[1]
     checks = []
@@ -58,6 +89,7 @@ def main():
             checks.append(("positions converted to code units", np.allclose(r0, 2 * r[::-1], rtol=1e-12)))
             checks.append(("starts at the file's time", abs(s0["Header"].attrs["Time"] - 40.0) < 1e-9))
             checks.append(("smoothing length calibrated", s0["PartType0/SmoothingLength"][0] > 0))
+        checks += non_finite_stops_with_dump(exe, config, tmp)
     for name, ok in checks:
         print(("ok   " if ok else "FAIL ") + name)
     failed = sum(not ok for _, ok in checks)
