@@ -147,6 +147,7 @@ const std::vector<KeyDef>& schema() {
       int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
       string_key("sph.kernel", &Config::kernel, {"cubic", "wendland_c2", "wendland_c4"}, "smoothing kernel"),
       float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target mean neighbour number of the initial conditions (sets h)"),
+      bool_key("sph.gradient_correction", &Config::gradient_correction, "velocity gradient renormalised to be exact for linear fields (false: plain P98 eq. 8)"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
       string_key("integrator.scheme", &Config::scheme, {"leapfrog", "rk23", "rk45"}, "time integrator"),
       float_key("integrator.tolerance", &Config::tolerance, in_range(1e-14, 0.1), "relative error tolerance per step (rk23, rk45)"),

@@ -31,6 +31,7 @@ struct Config {
   int dimension = 2;
   std::string kernel = "cubic";
   double neighbours = 60;          // target mean neighbour number of the initial conditions
+  bool gradient_correction = true;  // velocity gradient exact for linear fields (viscous_stress.hpp)
   double smoothing_length = 0;     // in units of ring_radius; 0: from sph.neighbours
   // [integrator]
   std::string scheme = "leapfrog";  // leapfrog | rk23 | rk45

@@ -73,4 +73,28 @@ constexpr double double_dot(const Mat<D>& s, const Mat<D>& v) {
   return r;
 }
 
+// inv = m^-1 for D = 2 or 3, unless m is singular or badly conditioned (|det| below 1e-6 of the
+// scale (trace/D)^D, e.g. a particle with fewer than D neighbours in general position).
+template <int D>
+bool invert_if_well_conditioned(const Mat<D>& m, Mat<D>& inv) {
+  static_assert(D == 2 || D == 3);
+  const double scale = m.trace() / D;
+  if (!(scale > 0)) return false;
+  if constexpr (D == 2) {
+    const double det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
+    if (!(std::abs(det) > 1e-6 * scale * scale)) return false;
+    inv(0, 0) = m(1, 1) / det, inv(0, 1) = -m(0, 1) / det;
+    inv(1, 0) = -m(1, 0) / det, inv(1, 1) = m(0, 0) / det;
+  } else {
+    Mat<3> c;  // cofactors
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        c(b, a) = m((a + 1) % 3, (b + 1) % 3) * m((a + 2) % 3, (b + 2) % 3) - m((a + 1) % 3, (b + 2) % 3) * m((a + 2) % 3, (b + 1) % 3);
+    const double det = m(0, 0) * c(0, 0) + m(0, 1) * c(1, 0) + m(0, 2) * c(2, 0);
+    if (!(std::abs(det) > 1e-6 * scale * scale * scale)) return false;
+    for (std::size_t k = 0; k < 9; ++k) inv.c[k] = c.c[k] / det;
+  }
+  return true;
+}
+
 }  // namespace sphdisk

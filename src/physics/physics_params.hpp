@@ -13,6 +13,7 @@ struct PhysicsParams {
   double sound_speed = 0.0;       // isothermal sound speed c_s, P = c_s^2 rho
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
+  bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
 };
 
 inline double pressure(const PhysicsParams& p, double rho) {

@@ -16,19 +16,53 @@
 
 namespace sphdisk {
 
+// Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
+// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
 template <int D>
-Mat<D> velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
+struct GradientSums {
+  Mat<D> V, M;
+};
+
+template <int D>
+GradientSums<D> gradient_sums_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
   const Vec<D> xi = p.pos[i], vi = p.vel[i];
-  Mat<D> V;
+  GradientSums<D> g;
   for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
     const std::uint32_t j = nl.index[k];
     const Vec<D> dx = xi - p.pos[j];
     const double f = p.volume[j] * static_cast<double>(F[k]);  // (m_j / rho_j) W_,b / dx_b
     const Vec<D> dv = p.vel[j] - vi;
     for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) V(a, b) += f * dv[a] * dx[b];
+      for (int b = 0; b < D; ++b) {
+        g.V(a, b) += f * dv[a] * dx[b];
+        g.M(a, b) -= f * dx[a] * dx[b];
+      }
   }
-  return V;
+  return g;
+}
+
+template <int D>
+Mat<D> velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
+  return gradient_sums_at(i, p, nl, F).V;
+}
+
+// The gradient made exact for linear velocity fields on any particle set: V M^-1. M is the
+// identity only for a complete, regular sampling. Why: the ring's particles are placed at random
+// (P98 5.2) and stay disordered (no pressure), and for such sets the summation density carries the
+// self term m W(0) on top of the smoothed density, ~10% at 60 neighbours; the volumes m/rho and
+// with them eq. 8's gradient come out that much too small, the effective viscosity too, and the
+// ring spreads too slowly at every N (docs/validation.md). M carries the same factor, so V M^-1
+// cancels it, as it cancels the missing support at the ring's edges. Falls back to eq. 8 where M
+// is singular (fewer than D neighbours in general position).
+template <int D>
+Mat<D> corrected_gradient(const GradientSums<D>& g) {
+  Mat<D> Minv;
+  if (!invert_if_well_conditioned(g.M, Minv)) return g.V;
+  Mat<D> G;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b)
+      for (int c = 0; c < D; ++c) G(a, b) += g.V(a, c) * Minv(c, b);
+  return G;
 }
 
 template <int D>
@@ -41,12 +75,42 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
+// The gradient made exact for linear velocity fields on any particle set: V_c = V M^-1 with the
+// moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b, which is the identity only for a
+// complete, regular sampling. Why: the ring's particles are placed at random (P98 5.2) and stay
+// disordered (no pressure), and for such sets the summation density carries the self term m W(0)
+// on top of the smoothed density, ~10% at 60 neighbours; the volumes m/rho and with them eq. 8's
+// gradient come out that much too small, the effective viscosity too, and the ring spreads too
+// slowly at every N (docs/validation.md). M carries the same factor, so V M^-1 cancels it, as it
+// cancels the missing support at the ring's edges. Falls back to eq. 8 where M is singular (fewer
+// than D neighbours in general position).
+template <int D>
+Mat<D> corrected_velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const Mat<D>& V) {
+  const Vec<D> xi = p.pos[i];
+  Mat<D> M;
+  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
+    const Vec<D> dx = xi - p.pos[nl.index[k]];
+    const double f = p.volume[nl.index[k]] * static_cast<double>(F[k]);
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) M(a, b) -= f * dx[a] * dx[b];
+  }
+  Mat<D> Minv;
+  if (!invert_if_well_conditioned(M, Minv)) return V;
+  Mat<D> G;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b)
+      for (int c = 0; c < D; ++c) G(a, b) += V(a, c) * Minv(c, b);
+  return G;
+}
+
 template <int D>
 void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
   par::for_each(p.size(), [&](std::size_t i) {
-    const Mat<D> V = velocity_gradient_at(i, p, nl, F);
-    p.stress[i] = kinematic_stress(V, phys);
-    p.du_dt[i] = double_dot(p.stress[i], V);
+    const GradientSums<D> g = gradient_sums_at(i, p, nl, F);
+    p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
+    // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
+    // energy stay exactly conserved whichever gradient sets the stress.
+    p.du_dt[i] = double_dot(p.stress[i], g.V);
   }, "velocity_gradient");
 }
 
