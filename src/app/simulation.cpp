@@ -325,6 +325,7 @@ RunSummary Runner::advance() {
     }
     const std::size_t evals_before = rates_.evaluations();
     const double dt_cap = t_out_[next] - s_.time;
+    const double tau_before = setup_.tau_of_time(s_.time);
     const double dt = integrator_->step(p_, dt_cap);
     updates += p_.size() * (rates_.evaluations() - evals_before);
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
@@ -340,6 +341,9 @@ RunSummary Runner::advance() {
       checkpoint = true;
     }
     if (cfg_.checkpoint_every_steps > 0 && s_.step % cfg_.checkpoint_every_steps == 0) checkpoint = true;
+    if (cfg_.checkpoint_every_tau > 0 && std::floor(setup_.tau_of_time(s_.time) / cfg_.checkpoint_every_tau) !=
+                                             std::floor(tau_before / cfg_.checkpoint_every_tau))
+      checkpoint = true;
     if (cfg_.checkpoint_every_seconds > 0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds)
       checkpoint = true;

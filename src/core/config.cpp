@@ -160,6 +160,7 @@ const std::vector<KeyDef>& schema() {
       string_key("output.dir", &Config::output_dir, {}, "output directory"),
       float_key("output.progress_interval", &Config::progress_interval, non_negative(), "seconds between progress lines (0: none)"),
       int_key("checkpoint.every_steps", &Config::checkpoint_every_steps, 0, (1LL << 62), "write a checkpoint every this many steps (0: off; checkpoints are also written at every output and on SIGTERM/SIGINT)"),
+      float_key("checkpoint.every_tau", &Config::checkpoint_every_tau, non_negative(), "write a checkpoint each time the viscous time tau passes a multiple of this (0: off)"),
       float_key("checkpoint.every_seconds", &Config::checkpoint_every_seconds, non_negative(), "write a checkpoint every this many wall-clock seconds (0: off)"),
       int_key("run.threads", &Config::threads, 0, 4096, "threads (0: OpenMP default, e.g. OMP_NUM_THREADS)"),
       int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),

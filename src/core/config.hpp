@@ -44,6 +44,7 @@ struct Config {
   double progress_interval = 5.0;  // seconds between progress lines; 0: none
   // [checkpoint] (also written at every output and on SIGTERM / SIGINT)
   long long checkpoint_every_steps = 0;     // 0: not by step count
+  double checkpoint_every_tau = 0;         // simulated-time interval in viscous time; 0: off
   double checkpoint_every_seconds = 600.0;  // wall-clock interval; 0: not by wall time
   // [run]
   int threads = 0;                 // 0: OpenMP default

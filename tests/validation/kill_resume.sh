@@ -17,6 +17,10 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev
 same_as_reference() {
   for f in snapshot_001.hdf5 snapshot_002.hdf5; do cmp -s "$work/ref/$f" "$1/$f" || return 1; done
 }
+# The same particle data (exact comparison), for runs whose stored configuration differs.
+same_particles_as_reference() {
+  for f in snapshot_001.hdf5 snapshot_002.hdf5; do h5diff -q "$work/ref/$f" "$1/$f" /PartType0 /PartType0 || return 1; done
+}
 
 # SIGKILL after the first checkpoint appears plus a delay (several kill points).
 for delay in 0 0.2 0.5 0.9 1.4; do
@@ -34,6 +38,23 @@ for delay in 0 0.2 0.5 0.9 1.4; do
     bad "SIGKILL at +${delay}s (checkpoint of step $step)"
   fi
 done
+
+# Checkpoints by simulated time alone: one appears before the first output, and resuming from a
+# kill still gives identical snapshots.
+dir=$work/by_tau
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set checkpoint.every_steps=0 \
+  --set checkpoint.every_seconds=0 --set checkpoint.every_tau=0.0001 > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 400); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.01; done
+[ -e "$dir/snapshot_001.hdf5" ] && early=no || early=yes
+sleep 0.3
+kill -9 $pid 2> /dev/null
+wait $pid 2> /dev/null
+if [ $early = yes ] && OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null && same_particles_as_reference "$dir"; then
+  ok "checkpoint.every_tau: checkpoint before the first output; SIGKILL and resume: identical particle data"
+else
+  bad "checkpoint.every_tau (checkpoint before first output: $early)"
+fi
 
 # SIGTERM: checkpoint, exit 75, resume.
 dir=$work/term
