@@ -57,7 +57,7 @@ void SymmetricSequential::evaluate(Particles<2>& p, double h, const PhysicsParam
       p.rho[j] += p.mass[i] * w;
     }
 
-  std::vector<Mat<2>> V(n);
+  std::vector<GradientSums<2>> g(n);  // V and the moment matrix M, as in viscous_stress.hpp
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t k = half.offsets[i]; k < half.offsets[i + 1]; ++k) {
       const std::uint32_t j = half.index[k];
@@ -67,12 +67,14 @@ void SymmetricSequential::evaluate(Particles<2>& p, double h, const PhysicsParam
       const double fi = f * p.mass[j] / p.rho[j], fj = f * p.mass[i] / p.rho[i];
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b) {
-          V[i](a, b) += fi * dv[a] * dx[b];  // (v_j - v_i) grad_i W
-          V[j](a, b) += fj * dv[a] * dx[b];  // (v_i - v_j) grad_j W = (v_j - v_i) grad_i W
+          g[i].V(a, b) += fi * dv[a] * dx[b];  // (v_j - v_i) grad_i W
+          g[j].V(a, b) += fj * dv[a] * dx[b];  // (v_i - v_j) grad_j W = (v_j - v_i) grad_i W
+          g[i].M(a, b) -= fi * dx[a] * dx[b];  // dx dx is even in the pair
+          g[j].M(a, b) -= fj * dx[a] * dx[b];
         }
     }
   for (std::size_t i = 0; i < n; ++i) {
-    p.stress[i] = kinematic_stress(V[i], phys);
+    p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g[i]) : g[i].V, phys);
     p.acc[i] = point_mass_gravity(p.pos[i], phys.gm);
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -83,7 +85,7 @@ void SymmetricSequential::evaluate(Particles<2>& p, double h, const PhysicsParam
       const double inv_rho_j = 1.0 / p.rho[j];  // one division per pair, against two multiplies per pair for
                                                  // the parallel code's factored sum
       Mat<2> T;  // (S_i / rho_j + S_j / rho_i): the pair's symmetric part, eq. 6
-      for (std::size_t k = 0; k < 4; ++k) T.c[k] = p.stress[i].c[k] * inv_rho_j + p.stress[j].c[k] * inv_rho_i;
+      for (std::size_t c = 0; c < 4; ++c) T.c[c] = p.stress[i].c[c] * inv_rho_j + p.stress[j].c[c] * inv_rho_i;
       const Vec<2> f = contract(T, gradW);
       p.acc[i] += f * p.mass[j];
       p.acc[j] -= f * p.mass[i];
