@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "app/diagnostics.hpp"
@@ -330,6 +331,7 @@ RunSummary Runner::advance() {
     updates += p_.size() * (rates_.evaluations() - evals_before);
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
+    if (s_.step == cfg_.inject_nan_at_step) p_.vel[0][0] = std::numeric_limits<double>::quiet_NaN();
     accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
     check_finite_or_dump();
     if (p_.size() == 0) throw UserError("all particles were accreted before the last output time");

@@ -163,6 +163,7 @@ const std::vector<KeyDef>& schema() {
       float_key("checkpoint.every_tau", &Config::checkpoint_every_tau, non_negative(), "write a checkpoint each time the viscous time tau passes a multiple of this (0: off)"),
       float_key("checkpoint.every_seconds", &Config::checkpoint_every_seconds, non_negative(), "write a checkpoint every this many wall-clock seconds (0: off)"),
       int_key("run.threads", &Config::threads, 0, 4096, "threads (0: OpenMP default, e.g. OMP_NUM_THREADS)"),
+      int_key("run.inject_nan_at_step", &Config::inject_nan_at_step, 0, (1LL << 62), "testing aid: make one velocity NaN at this step to exercise the fault handling (0: off)"),
       int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),
   };
   return keys;

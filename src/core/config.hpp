@@ -49,6 +49,7 @@ struct Config {
   // [run]
   int threads = 0;                 // 0: OpenMP default
   long long max_steps = 0;         // 0: no limit
+  long long inject_nan_at_step = 0;  // testing aid for the fault path; 0: off
 
   std::string resolved_toml;       // every key = value, for outputs
   // (key, value as TOML text) for every key, in declaration order (for HDF5 /Parameters)

@@ -82,5 +82,14 @@ expect_error overwrite "already holds results" -- run "${small[@]}" -o "$work/ru
 after=$(md5sum "$work/run/snapshot_001.hdf5")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: existing snapshot changed"; fi
 
+# Truncated snapshot and checkpoint (a copy cut in half, as after an interrupted transfer).
+cp "$work/run/snapshot_001.hdf5" "$work/cut.hdf5"
+truncate -s $(( $(stat -c %s "$work/cut.hdf5") / 2 )) "$work/cut.hdf5"
+expect_error truncated-snapshot "cut.hdf5" -- analyze "$work/cut.hdf5"
+expect_error truncated-ic "cut.hdf5" -- run "$(dirname "$0")/../validation/small_ring.toml" --set "problem.initial_conditions=\"$work/cut.hdf5\"" -o "$work/o6"
+mkdir -p "$work/cutrun" && cp "$work/run/checkpoint.hdf5" "$work/cutrun/checkpoint.hdf5"
+truncate -s $(( $(stat -c %s "$work/cutrun/checkpoint.hdf5") / 2 )) "$work/cutrun/checkpoint.hdf5"
+expect_error truncated-checkpoint "checkpoint.hdf5" -- resume "$work/cutrun"
+
 echo "cli errors: $passed passed, $failed failed"
 [ $failed -eq 0 ]

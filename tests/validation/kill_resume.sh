@@ -56,6 +56,20 @@ else
   bad "checkpoint.every_tau (checkpoint before first output: $early)"
 fi
 
+# A NaN in the middle of a run (injected at step 30, checkpoints every 7 steps): exit 3, a debug
+# dump, and the last good checkpoint (step 28) kept; resuming from it without the fault gives the
+# reference particle data.
+dir=$work/nan
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set run.inject_nan_at_step=30 > /dev/null 2> "$work/nan.err"
+rc=$?
+step=$(/usr/bin/python3 -c "import h5py,sys; print(int(h5py.File(sys.argv[1])['Checkpoint'].attrs['Step']))" "$dir/checkpoint.hdf5" 2>/dev/null || echo "?")
+if [ $rc -eq 3 ] && grep -q "non-finite velocity of particle ID .* at step 30" "$work/nan.err" && [ -e "$dir/debug_step_30.hdf5" ] && [ "$step" = 28 ] &&
+   OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q --set run.inject_nan_at_step=0 > /dev/null && same_particles_as_reference "$dir"; then
+  ok "NaN at step 30: exit 3, debug dump, checkpoint of step 28 kept and resumable to the reference"
+else
+  bad "NaN at step 30: rc=$rc checkpoint step=$step $(cat "$work/nan.err")"
+fi
+
 # SIGTERM: checkpoint, exit 75, resume.
 dir=$work/term
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" > /dev/null 2> "$work/term.err" &
