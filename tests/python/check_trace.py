@@ -11,6 +11,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from checklist import summarise  # noqa: E402
+
 
 def main():
     exe, config = sys.argv[1], sys.argv[2]
@@ -31,11 +34,7 @@ def main():
         timers = json.loads((Path(tmp) / "run" / "timers.json").read_text())
         for phase in ("cell_build", "neighbour_search", "density", "velocity_gradient", "forces", "integration", "io"):
             checks.append((f"timers.json has '{phase}'", phase in timers and timers[phase] >= 0))
-    for name, ok in checks:
-        print(("ok   " if ok else "FAIL ") + name)
-    failed = sum(not ok for _, ok in checks)
-    print(f"trace: {len(checks) - failed} passed, {failed} failed")
-    return 1 if failed else 0
+    return summarise("trace", checks)
 
 
 if __name__ == "__main__":

@@ -16,6 +16,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from checklist import summarise  # noqa: E402
+
 RSUN, MSUN, G = 6.957e10, 1.98841e33, 6.67430e-8
 
 
@@ -90,11 +93,7 @@ def main():
             checks.append(("starts at the file's time", abs(s0["Header"].attrs["Time"] - 40.0) < 1e-9))
             checks.append(("smoothing length calibrated", s0["PartType0/SmoothingLength"][0] > 0))
         checks += non_finite_stops_with_dump(exe, config, tmp)
-    for name, ok in checks:
-        print(("ok   " if ok else "FAIL ") + name)
-    failed = sum(not ok for _, ok in checks)
-    print(f"initial conditions: {len(checks) - failed} passed, {failed} failed")
-    return 1 if failed else 0
+    return summarise("initial conditions", checks)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,8 @@ MAKE_RUN = os.path.join(TOOLS, "make_test_run.py")
 sys.path.insert(0, TOOLS)
 sys.dont_write_bytecode = True  # no tools/__pycache__ in the work tree
 import report  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checklist import Checks  # noqa: E402
 
 W, H = 640, 480
 SNAPSHOT_FIGURES = {"fig5_positions.png": (640, 640), "fig6_sigma.png": (W, H), "fig7_vr.png": (W, H),
@@ -34,14 +36,7 @@ SNAPSHOT_FIGURES = {"fig5_positions.png": (640, 640), "fig6_sigma.png": (W, H), 
 DIAG_FIGURES = {"conservation.png": (W, H)}
 SCALING_FIGURES = {"fig9_speedup.png": (W, H), "fig9_efficiency.png": (W, H), "fig10_comm_time.png": (W, H)}
 
-failures = []
-
-
-def check(ok, what):
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    if not ok:
-        failures.append(what)
-    return ok
+check = Checks()
 
 
 def run(*args):
@@ -162,11 +157,7 @@ def main():
         test_full_run(tmp)
         test_no_diagnostics(tmp)
         test_errors(tmp)
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        return 1
-    print("all report checks passed")
-    return 0
+    return check.exit_code("report")
 
 
 if __name__ == "__main__":

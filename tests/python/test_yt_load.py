@@ -26,6 +26,8 @@ import tempfile
 
 import h5py
 import numpy as np
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checklist import Checks  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 MAKE_RUN = os.path.join(ROOT, "tools", "make_test_run.py")
@@ -40,14 +42,7 @@ FIELDS = [
     ("ParticleIDs", ["ParticleIDs", "particle_index"], ""),
 ]
 
-failures = []
-
-
-def check(ok, what):
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    if not ok:
-        failures.append(what)
-    return ok
+check = Checks()
 
 
 def read_raw(path):
@@ -149,11 +144,7 @@ def main(argv):
     else:
         with tempfile.TemporaryDirectory(prefix="sphdisk_yt_test_") as tmp:
             run_checks(synthetic_snapshot(tmp))
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        return 1
-    print("all yt checks passed")
-    return 0
+    return check.exit_code("yt")
 
 
 if __name__ == "__main__":
