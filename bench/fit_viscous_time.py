@@ -31,23 +31,29 @@ def annulus_means(tau, mass):
     return np.array(out)
 
 
+def fit(path):
+    """(tau, L1 at tau, best-fit tau*, L1 at tau*) of one snapshot."""
+    with h5py.File(path) as s:
+        x = s["PartType0/Coordinates"][:]
+        m = s["PartType0/Masses"][:]
+        tau = s["Header"].attrs["ViscousTime"]
+        mass = s["Header"].attrs["DiskMass"]
+    r = np.hypot(x[:, 0], x[:, 1])
+    binned, _ = np.histogram(r, bins=EDGES, weights=m)
+    binned /= np.pi * (EDGES[1:] ** 2 - EDGES[:-1] ** 2)
+
+    def l1(t):
+        a = annulus_means(t, mass)
+        return np.abs(binned - a).sum() / a.sum()
+
+    best = min(tau * np.linspace(0.8, 1.2, 81), key=l1)
+    return tau, l1(tau), best, l1(best)
+
+
 def main():
     for path in sys.argv[1:]:
-        with h5py.File(path) as s:
-            x = s["PartType0/Coordinates"][:]
-            m = s["PartType0/Masses"][:]
-            tau = s["Header"].attrs["ViscousTime"]
-            mass = s["Header"].attrs["DiskMass"]
-        r = np.hypot(x[:, 0], x[:, 1])
-        binned, _ = np.histogram(r, bins=EDGES, weights=m)
-        binned /= np.pi * (EDGES[1:] ** 2 - EDGES[:-1] ** 2)
-
-        def l1(t):
-            a = annulus_means(t, mass)
-            return np.abs(binned - a).sum() / a.sum()
-
-        best = min(tau * np.linspace(0.8, 1.2, 81), key=l1)
-        print(f"{path}: tau {tau:.4f}  L1 {l1(tau):.4f}  best-fit tau* {best:.4f} (tau*/tau {best / tau:.3f}), L1 there {l1(best):.4f}")
+        tau, l1, best, l1_best = fit(path)
+        print(f"{path}: tau {tau:.4f}  L1 {l1:.4f}  best-fit tau* {best:.4f} (tau*/tau {best / tau:.3f}), L1 there {l1_best:.4f}")
 
 
 if __name__ == "__main__":
