@@ -6,9 +6,9 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include "core/toml.hpp"
 
 #include "core/error.hpp"
+#include "core/toml.hpp"
 
 namespace sphdisk {
 
@@ -304,8 +304,9 @@ Config parse_config(const std::string& toml_text_in, const std::string& source_n
     const std::string key = o.substr(0, eq), value = o.substr(eq + 1);
     toml::table one;
     try {
+      check_toml_characters("v = " + value, "--set");  // keeps odd bytes away from toml++ here too
       one = toml::parse("v = " + value);
-    } catch (const std::exception&) {  // toml::parse_error or TomlCheckFailed
+    } catch (const std::exception&) {  // UserError, toml::parse_error or TomlCheckFailed
       one = toml::table{{"v", value}};  // a bare word is a string: --set integrator.scheme=rk23
     }
     apply_node(key, *one.get("v"), c, "--set " + key);

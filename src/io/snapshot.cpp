@@ -1,16 +1,11 @@
 #include "io/snapshot.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <numeric>
-#include "core/toml.hpp"
 
 #include "core/error.hpp"
+#include "core/toml.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_util.hpp"
 
