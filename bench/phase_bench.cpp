@@ -1,0 +1,104 @@
+// Microbenchmarks of the phases of one rate evaluation (Google Benchmark), on the ring of the
+// default job in cell order: cell build, neighbour search, density, velocity gradient + stress,
+// forces. Argument: particle count. Each reports particle-updates per second ("items").
+//   build/release/bench/phase_bench --benchmark_format=csv > phases.csv
+// Threads: OMP_NUM_THREADS (the parallel layer's default).
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "neighbours/cell_grid.hpp"
+#include "neighbours/neighbour_lists.hpp"
+#include "physics/density.hpp"
+#include "physics/forces.hpp"
+#include "physics/viscous_stress.hpp"
+#include "problems/ring_setup.hpp"
+
+namespace {
+using namespace sphdisk;
+
+constexpr double kNeighbours = 60;
+
+// Everything a phase needs, evaluated once up to that phase.
+struct Fixture {
+  Particles<2> p;
+  PhysicsParams phys;
+  double h = 0;
+  CellGrid<2> grid;
+  NeighbourLists lists;
+  PairFactors factors;
+
+  explicit Fixture(std::size_t n) {
+    RingSetup setup;
+    setup.solution = RingSolution{1e-10, 1.0, 4.7786e-5};
+    setup.particles = n;
+    h = ring_smoothing_length(setup, kNeighbours);
+    phys.nu = setup.solution.viscosity;
+    p = make_ring(setup);
+    p.gather(build_cell_grid(p.pos, p.id, h).sorted);
+    build_cell_grid(p.pos, p.id, h, grid);
+    build_neighbour_lists(grid, p.pos, 2 * h, lists);
+    compute_density(p, lists, KernelAt<CubicSpline, 2>(h), factors);
+    compute_viscous_stress(p, lists, factors, phys);
+  }
+};
+
+Fixture& fixture(std::size_t n) {  // one per size, built outside the timed loops
+  static std::map<std::size_t, std::unique_ptr<Fixture>> cache;
+  auto& f = cache[n];
+  if (!f) f = std::make_unique<Fixture>(n);
+  return *f;
+}
+
+void finish(benchmark::State& state, std::size_t n, const NeighbourLists& lists) {
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+  state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(lists.total()) * static_cast<double>(state.iterations()),
+                                                      benchmark::Counter::kIsRate);
+}
+
+void BM_CellBuild(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) build_cell_grid(f.p.pos, f.p.id, f.h, f.grid);
+  finish(state, n, f.lists);
+}
+
+void BM_NeighbourSearch(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) build_neighbour_lists(f.grid, f.p.pos, 2 * f.h, f.lists);
+  finish(state, n, f.lists);
+}
+
+void BM_Density(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) compute_density(f.p, f.lists, KernelAt<CubicSpline, 2>(f.h), f.factors);
+  finish(state, n, f.lists);
+}
+
+void BM_VelocityGradient(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) compute_viscous_stress(f.p, f.lists, f.factors, f.phys);
+  finish(state, n, f.lists);
+}
+
+void BM_Forces(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) compute_accelerations(f.p, f.lists, f.factors, f.phys);
+  finish(state, n, f.lists);
+}
+
+#define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
+SPHDISK_PHASE(BM_CellBuild);
+SPHDISK_PHASE(BM_NeighbourSearch);
+SPHDISK_PHASE(BM_Density);
+SPHDISK_PHASE(BM_VelocityGradient);
+SPHDISK_PHASE(BM_Forces);
+
+}  // namespace
+
+BENCHMARK_MAIN();
