@@ -1,8 +1,12 @@
 #pragma once
-// One full evaluation of the time derivatives: cell list -> neighbour lists -> density -> velocity
-// gradient and stress -> accelerations. The stages run in this order, each under its phase timer;
-// this is the function the integrators call.
-// Reads: pos, vel, mass, u, id. Writes: rho, stress, acc, du_dt; keeps the neighbour lists.
+// One full evaluation of the time derivatives: [smoothing lengths ->] cell list -> neighbour lists ->
+// density -> velocity gradient and stress -> accelerations. The stages run in this order, each
+// under its phase timer; this is the function the integrators call.
+// Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
+// the neighbour lists.
+#include <tuple>
+#include <vector>
+
 #include "core/particles.hpp"
 #include "core/timers.hpp"
 #include "neighbours/cell_grid.hpp"
@@ -13,15 +17,25 @@
 
 namespace sphdisk {
 
+enum class Smoothing {
+  Constant,  // one global h for all particles and times (P98 sec. 5.3)
+  Adaptive,  // h_i = eta (m_i / rho_i)^(1/D) (physics/smoothing_length.hpp)
+};
+
+Smoothing smoothing_from_name(std::string_view name);
+
 template <int D>
 class RateEvaluator {
  public:
-  RateEvaluator(KernelType kernel, double h, PhysicsParams phys, PhaseTimers& timers)
-      : kernel_(kernel), h_(h), phys_(phys), timers_(timers) {}
+  // h: the global smoothing length (Constant), or the typical one (Adaptive: cell size of the
+  // reorder grid). neighbours: the target neighbour number that sets eta (Adaptive).
+  RateEvaluator(KernelType kernel, double h, PhysicsParams phys, PhaseTimers& timers,
+                Smoothing smoothing = Smoothing::Constant, double neighbours = 60.0);
 
   void evaluate(Particles<D>& p);
 
   double smoothing_length() const { return h_; }
+  Smoothing smoothing() const { return smoothing_; }
   const PhysicsParams& physics() const { return phys_; }
   KernelType kernel() const { return kernel_; }
   PhaseTimers& timers() { return timers_; }
@@ -31,12 +45,22 @@ class RateEvaluator {
   std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
 
  private:
+  template <class K>
+  void adaptive_lists(Particles<D>& p);
+
   KernelType kernel_;
   double h_;
   PhysicsParams phys_;
   PhaseTimers& timers_;
+  Smoothing smoothing_;
+  double eta_;
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   NeighbourLists lists_;
+  NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
+  std::vector<double> search_radius_;
+  std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
+             std::vector<KernelAt<WendlandC4, D>>>
+      kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
   PairFactors factors_;    // kernel-gradient factor of every list entry (pair_factors.hpp)
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;

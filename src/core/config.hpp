@@ -32,7 +32,8 @@ struct Config {
   std::string kernel = "cubic";
   double neighbours = 60;          // target mean neighbour number of the initial conditions
   bool gradient_correction = true;  // velocity gradient exact for linear fields (viscous_stress.hpp)
-  double smoothing_length = 0;     // in units of ring_radius; 0: from sph.neighbours
+  std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
+  double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   // [integrator]
   std::string scheme = "leapfrog";  // leapfrog | rk23 | rk45
   double tolerance = 1e-6;

@@ -62,10 +62,9 @@ class EmbeddedRungeKutta final : public Integrator<D> {
   void start(Particles<D>& p) override { rates_.evaluate(p); }
 
   double step(Particles<D>& p, double dt_cap) override {
-    const double h = rates_.smoothing_length();
     const PhysicsParams& phys = rates_.physics();
-    const double dt_stable = std::min(stability_timestep(h, phys, params_.factors), params_.dt_max);
-    if (dt_next_ <= 0) dt_next_ = explicit_timestep(p, h, phys, params_.factors);
+    const double dt_stable = std::min(stability_timestep(smallest_smoothing_length(p), phys, params_.factors), params_.dt_max);
+    if (dt_next_ <= 0) dt_next_ = explicit_timestep(p, phys, params_.factors);
     save_initial_state(p);
     for (;;) {
       const double dt = std::min({dt_next_, dt_stable, dt_cap});

@@ -1,9 +1,9 @@
 #pragma once
 // Explicit timestep criteria (physics.md sec. 3, Phantom's defaults):
 //   orbital  C_orb / Omega_i, Omega_i = sqrt(G M / r_i^3)   (dominates for the ring)
-//   force    C_force sqrt(h / |a_i|)
-//   viscous  C_visc h^2 / max(nu, nu_bulk)
-//   Courant  C_cour h / c_s                                  (only with an equation of state)
+//   force    C_force sqrt(h_i / |a_i|)
+//   viscous  C_visc h_i^2 / max(nu, nu_bulk)
+//   Courant  C_cour h_i / c_s                                (only with an equation of state)
 // The smallest over particles is returned; min is exact, so it does not depend on thread count.
 #include <algorithm>
 #include <cmath>
@@ -32,22 +32,27 @@ inline double stability_timestep(double h, const PhysicsParams& phys, const Time
 }
 
 template <int D>
-double particle_timestep(const Particles<D>& p, std::size_t i, double h, const PhysicsParams& phys,
-                         const TimestepFactors& f) {
+double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
   const double r = norm(p.pos[i]);
   double dt = f.orbital * std::sqrt(r * r * r / phys.gm);
   const double a = norm(p.acc[i]);
-  if (a > 0) dt = std::min(dt, f.force * std::sqrt(h / a));
-  return dt;
+  if (a > 0) dt = std::min(dt, f.force * std::sqrt(p.h[i] / a));
+  return std::min(dt, stability_timestep(p.h[i], phys, f));
 }
 
 template <int D>
-double explicit_timestep(const Particles<D>& p, double h, const PhysicsParams& phys, const TimestepFactors& f) {
+double explicit_timestep(const Particles<D>& p, const PhysicsParams& phys, const TimestepFactors& f) {
   const double inf = std::numeric_limits<double>::infinity();
-  const double dt_particles = par::reduce(
-      p.size(), inf, [&](std::size_t i) { return particle_timestep(p, i, h, phys, f); },
+  return par::reduce(
+      p.size(), inf, [&](std::size_t i) { return particle_timestep(p, i, phys, f); },
       [](double a, double b) { return std::min(a, b); });
-  return std::min(dt_particles, stability_timestep(h, phys, f));
+}
+
+template <int D>
+double smallest_smoothing_length(const Particles<D>& p) {
+  return par::reduce(
+      p.size(), std::numeric_limits<double>::infinity(), [&](std::size_t i) { return p.h[i]; },
+      [](double a, double b) { return std::min(a, b); });
 }
 
 }  // namespace sphdisk

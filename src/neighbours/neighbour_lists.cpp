@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "parallel/loops.hpp"
 
@@ -43,14 +44,17 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, 
 
 constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
 
-}  // namespace
+struct KeepAll {
+  double operator()(std::size_t, std::span<const std::uint32_t>, double radius) const { return radius; }
+};
 
-template <int D>
-void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl) {
+// radius_of(i): the search radius of particle i (one value for all, or one per particle).
+// settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
+template <int D, class Radius, class Settle>
+void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, Radius&& radius_of, Settle&& settle,
+                 NeighbourLists& nl) {
   const std::size_t n = pos.size();
-  const double r2 = radius * radius;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
-  const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
   auto& block_index = nl.block_index;
   auto& block_count = nl.block_count;
   block_index.resize(nblocks);
@@ -68,10 +72,28 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
       const std::size_t before = idx.size();
-      for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
-        for (std::uint32_t s = s0; s < s1; ++s)
-          if (norm2(grid.sorted_pos[s] - xi) < r2 && grid.sorted[s] != i) idx.push_back(grid.sorted[s]);
-      });
+      for (double radius = radius_of(i);;) {
+        const double r2 = radius * radius;
+        const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
+        for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
+          for (std::uint32_t s = s0; s < s1; ++s)
+            if (norm2(grid.sorted_pos[s] - xi) < r2 && grid.sorted[s] != i) idx.push_back(grid.sorted[s]);
+        });
+        const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
+        if (keep > radius) {  // search again, wider
+          idx.resize(before);
+          radius = keep;
+          continue;
+        }
+        if (keep < radius) {  // drop candidates beyond the kept radius, in place, order kept
+          const double keep2 = keep * keep;
+          std::size_t out = before;
+          for (std::size_t k = before; k < idx.size(); ++k)
+            if (norm2(pos[idx[k]] - xi) < keep2) idx[out++] = idx[k];
+          idx.resize(out);
+        }
+        break;
+      }
       cnt[i - i0] = static_cast<std::uint32_t>(idx.size() - before);
     }
     idx.swap(block_index[b]);
@@ -93,8 +115,34 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
   }, {}, 1);
 }
 
+}  // namespace
+
+template <int D>
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl) {
+  build_lists(grid, pos, [radius](std::size_t) { return radius; }, KeepAll{}, nl);
+}
+
+template <int D>
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& radius,
+                           NeighbourLists& nl) {
+  build_lists(grid, pos, [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, nl);
+}
+
+template <int D>
+void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
+                                   const std::vector<double>& first_radius, const SettleRadius& settle,
+                                   NeighbourLists& nl) {
+  build_lists(grid, pos, [&first_radius](std::size_t i) { return first_radius[i]; }, settle, nl);
+}
+
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&);
+template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
+                                            const SettleRadius&, NeighbourLists&);
+template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
+                                            const SettleRadius&, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&);
 
 }  // namespace sphdisk
 

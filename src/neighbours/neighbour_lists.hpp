@@ -4,6 +4,8 @@
 // in cell order and by ID inside a cell (see cell_grid.hpp): a fixed order, so pair sums give the
 // same bits for any thread count.
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "core/vec.hpp"
@@ -30,6 +32,24 @@ struct NeighbourLists {
 // against 3 x 3 of 4 h^2 for a support radius 2h).
 template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& out);
+
+// Gather lists with a search radius per particle (variable smoothing lengths): j is in i's list
+// when |x_i - x_j| < radius[i]. The cell size may be smaller than the radii; more cells are scanned.
+template <int D>
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& radius,
+                           NeighbourLists& out);
+
+// Gather lists whose radius each particle settles from its own candidates: particle i's
+// candidates within first_radius[i] are passed to settle(i, candidates, searched_radius), which
+// returns the radius to keep (<= searched; entries beyond it are dropped, order kept) or a larger
+// radius to search again. Used to solve adaptive smoothing lengths during the search itself
+// (physics/smoothing_length.hpp). settle runs in parallel, once per particle and search.
+using SettleRadius = std::function<double(std::size_t, std::span<const std::uint32_t>, double)>;
+
+template <int D>
+void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
+                                   const std::vector<double>& first_radius, const SettleRadius& settle,
+                                   NeighbourLists& out);
 
 template <int D>
 NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius) {

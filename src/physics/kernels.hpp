@@ -72,7 +72,7 @@ struct WendlandC4 {
   }
 };
 
-// A kernel bound to one smoothing length (global and constant, P98 sec. 5.3).
+// A kernel bound to one smoothing length (the global one of P98 sec. 5.3, or one particle's).
 template <class K, int D>
 struct KernelAt {
   double h;
@@ -91,6 +91,11 @@ struct KernelAt {
   double W(double r) const { return w_norm * K::w(r * inv_h); }
   // dW/dr / r: multiply by (x_i - x_j) to get grad_i W_ij.
   double dW_over_r(double r) const { return grad_norm * K::dw_over_q(r * inv_h); }
+  // dW/dh = -(sigma_D / h^(D+1)) (D w(q) + q w'(q)), for the smoothing-length iteration.
+  double dW_dh(double r) const {
+    const double q = r * inv_h;
+    return -w_norm * inv_h * (D * K::w(q) + q * q * K::dw_over_q(q));
+  }
 };
 
 enum class KernelType { Cubic, WendlandC2, WendlandC4 };

@@ -75,34 +75,6 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
-// The gradient made exact for linear velocity fields on any particle set: V_c = V M^-1 with the
-// moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b, which is the identity only for a
-// complete, regular sampling. Why: the ring's particles are placed at random (P98 5.2) and stay
-// disordered (no pressure), and for such sets the summation density carries the self term m W(0)
-// on top of the smoothed density, ~10% at 60 neighbours; the volumes m/rho and with them eq. 8's
-// gradient come out that much too small, the effective viscosity too, and the ring spreads too
-// slowly at every N (docs/validation.md). M carries the same factor, so V M^-1 cancels it, as it
-// cancels the missing support at the ring's edges. Falls back to eq. 8 where M is singular (fewer
-// than D neighbours in general position).
-template <int D>
-Mat<D> corrected_velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const Mat<D>& V) {
-  const Vec<D> xi = p.pos[i];
-  Mat<D> M;
-  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
-    const Vec<D> dx = xi - p.pos[nl.index[k]];
-    const double f = p.volume[nl.index[k]] * static_cast<double>(F[k]);
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) M(a, b) -= f * dx[a] * dx[b];
-  }
-  Mat<D> Minv;
-  if (!invert_if_well_conditioned(M, Minv)) return V;
-  Mat<D> G;
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b)
-      for (int c = 0; c < D; ++c) G(a, b) += V(a, c) * Minv(c, b);
-  return G;
-}
-
 template <int D>
 void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
   par::for_each(p.size(), [&](std::size_t i) {

@@ -69,3 +69,22 @@ TEST(Kernels, UnknownNameIsAUserError) {
   EXPECT_THROW(kernel_from_name("gaussian"), UserError);
   EXPECT_EQ(kernel_from_name("wendland_c4"), KernelType::WendlandC4);
 }
+
+// dW/dh (for the smoothing-length Newton iteration) against a central difference in h.
+template <class K, int D>
+void check_h_derivative() {
+  const double h = 0.37, dh = 1e-6;
+  for (double r = 0.0; r < 2.0 * h; r += 0.013) {
+    using Kern = KernelAt<K, D>;
+    const double fd = (Kern(h + dh).W(r) - Kern(h - dh).W(r)) / (2 * dh);
+    const double scale = Kern(h).W(0.0) / h;
+    EXPECT_NEAR(Kern(h).dW_dh(r), fd, 1e-6 * scale) << K::name << " r " << r;
+  }
+}
+
+TEST(Kernels, SmoothingLengthDerivativeMatchesFiniteDifference) {
+  check_h_derivative<CubicSpline, 2>();
+  check_h_derivative<CubicSpline, 3>();
+  check_h_derivative<WendlandC2, 2>();
+  check_h_derivative<WendlandC4, 3>();
+}

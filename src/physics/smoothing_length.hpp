@@ -1,0 +1,84 @@
+#pragma once
+// Variable smoothing lengths (Springel & Hernquist 2002; Price 2012, as in Phantom and GADGET):
+// each particle's h solves
+//   h_i = eta (m_i / rho_i)^(1/D),   rho_i = sum_j m_j W(|x_i - x_j|, h_i)   (self term included),
+// so every kernel holds about the same number of neighbours, N_ngb = V_D (2 eta)^D with V_D the
+// volume of the unit ball. Why: with one global h (P98 sec. 5.3) the ring's wings, where Sigma
+// falls by orders of magnitude, hold a handful of neighbours, the self term m W(0) floors their
+// density, and the viscous torque there is too weak: the wings stay truncated
+// (docs/validation.md). With h adapting, the resolution follows the mass.
+// The equation is solved per particle by Newton-Raphson on f(h) = rho(h) - m (eta/h)^D, safeguarded
+// by bisection on the bracket of sign changes, over the candidates the neighbour search hands over
+// (neighbour_lists.hpp, build_settled_neighbour_lists). The iteration is the same for any thread
+// count, and so is the result.
+// Reads: pos, mass, h (start value). Writes: h.
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "neighbours/neighbour_lists.hpp"
+#include "physics/kernels.hpp"
+
+namespace sphdisk {
+
+// eta for a target neighbour number: N_ngb = V_D (2 eta)^D.
+template <int D>
+double eta_for_neighbours(double neighbours) {
+  const double unit_ball = D == 1 ? 2.0 : D == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
+  return 0.5 * std::pow(neighbours / unit_ball, 1.0 / D);
+}
+
+struct SmoothingLengthResult {
+  double h;
+  bool beyond_candidates;  // the solution needs neighbours beyond the candidate radius: h is a new start value
+};
+
+// Solves for h_i from h_start with candidates (every j within 2 h_max of x_i). tolerance: on the
+// relative Newton step (Phantom uses 1e-4); Newton converges quadratically, so the last step's
+// error is far below it.
+template <class K, int D>
+SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, std::span<const std::uint32_t> cand,
+                                          double h_start, double eta, double h_max, double tolerance = 1e-5) {
+  // m_j and r_ij once; every iteration re-reads them contiguously.
+  thread_local std::vector<double> mass_r;
+  mass_r.resize(2 * cand.size());
+  for (std::size_t k = 0; k < cand.size(); ++k) {
+    mass_r[2 * k] = p.mass[cand[k]];
+    mass_r[2 * k + 1] = norm(p.pos[i] - p.pos[cand[k]]);
+  }
+  const double mi = p.mass[i];
+  double h = std::min(h_start, h_max), lo = 0.0, hi = std::numeric_limits<double>::infinity();
+  for (int iter = 0; iter < 100; ++iter) {
+    // sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)): rho and -h^(D+1)/sigma d rho/dh.
+    const double inv_h = 1.0 / h;
+    double sw = mi * K::w(0.0), sdw = D * sw;
+    for (std::size_t k = 0; k < cand.size(); ++k) {
+      const double q = mass_r[2 * k + 1] * inv_h, w = K::w(q);
+      sw += mass_r[2 * k] * w;
+      sdw += mass_r[2 * k] * (D * w + q * q * K::dw_over_q(q));
+    }
+    double norm = K::template sigma<D>();
+    for (int d = 0; d < D; ++d) norm *= inv_h;
+    double rho_h = mi;
+    for (int d = 0; d < D; ++d) rho_h *= eta * inv_h;
+    const double rho = norm * sw, drho = -norm * inv_h * sdw;
+    const double f = rho - rho_h, df = drho + D * rho_h * inv_h;
+    (f < 0 ? lo : hi) = h;
+    double next = df > 0 ? h - f / df : -1.0;
+    if (!(next > lo && next < hi)) next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * h;
+    if (next > h_max) {
+      // Newton may overshoot: only f(h_max) < 0 proves the root lies beyond the candidates.
+      if (h >= h_max) return {2.0 * h_max, true};
+      next = h_max;
+    }
+    const bool done = std::abs(next - h) <= tolerance * h;
+    h = next;
+    if (done) break;
+  }
+  return {h, false};
+}
+
+}  // namespace sphdisk
