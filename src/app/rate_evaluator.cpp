@@ -17,7 +17,7 @@ namespace {
 
 // Candidates are searched to kSkin x 2 h_i, so h may grow by kSkin while it is solved for before
 // the particle's search must be repeated.
-constexpr double kSkin = 1.1;
+constexpr double kSkin = 1.05;
 
 // The median h sets the cell size: the denser particles scan few cells and the rest
 // (larger h) reach over more cells; any cell size gives the same lists.

@@ -56,7 +56,8 @@ void compute_density(Particles<D>& p, const NeighbourLists& nl, std::vector<Kern
   par::for_each(p.size(), [&](std::size_t i) {
     const KernelAt<K, D>& ki = kernels[i];
     p.rho[i] = density_at(i, p, nl, ki, factors.data(), [&](std::uint32_t j, double r) {
-      return 0.5 * (ki.dW_over_r(r) + kernels[j].dW_over_r(r));
+      // One division per pair: (dW_i/dr + dW_j/dr) / (2 r); w'(0) = 0, so coincident particles get 0.
+      return r > 0 ? (ki.dW_dr(r) + kernels[j].dW_dr(r)) / (2.0 * r) : 0.0;
     });
     p.volume[i] = p.mass[i] / p.rho[i];
   }, "density");

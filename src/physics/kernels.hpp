@@ -24,6 +24,11 @@ struct CubicSpline {  // M4 B-spline (Monaghan & Lattanzio 1985)
     const double outer = -0.75 * a * a / (q < 1.0 ? 1.0 : q);
     return q < 1.0 ? 0.75 * (3.0 * q - 4.0) : outer;
   }
+  // w'(q) = 3 (1-q)_+^2 - 0.75 (2-q)_+^2: no division, for loops that need dW/dr itself.
+  static constexpr double dw(double q) {
+    const double a = q < 2.0 ? 2.0 - q : 0.0, b = q < 1.0 ? 1.0 - q : 0.0;
+    return 3.0 * b * b - 0.75 * a * a;
+  }
   template <int D>
   static constexpr double sigma() {
     if constexpr (D == 1) return 2.0 / 3.0;
@@ -44,6 +49,7 @@ struct WendlandC2 {  // Wendland (1995); no pairing instability (Dehnen & Aly 20
     const double t = q - 2.0;
     return 0.625 * t * t * t;
   }
+  static constexpr double dw(double q) { return q * dw_over_q(q); }
   template <int D>
   static constexpr double sigma() {
     static_assert(D >= 2, "Wendland C2 is defined here for 2D and 3D");
@@ -64,6 +70,7 @@ struct WendlandC4 {
     const double t = q - 2.0, t2 = t * t;
     return 7.0 / 96.0 * t2 * t2 * t * (5.0 * q + 2.0);
   }
+  static constexpr double dw(double q) { return q * dw_over_q(q); }
   template <int D>
   static constexpr double sigma() {
     static_assert(D >= 2, "Wendland C4 is defined here for 2D and 3D");
@@ -91,10 +98,11 @@ struct KernelAt {
   double W(double r) const { return w_norm * K::w(r * inv_h); }
   // dW/dr / r: multiply by (x_i - x_j) to get grad_i W_ij.
   double dW_over_r(double r) const { return grad_norm * K::dw_over_q(r * inv_h); }
+  double dW_dr(double r) const { return w_norm * inv_h * K::dw(r * inv_h); }
   // dW/dh = -(sigma_D / h^(D+1)) (D w(q) + q w'(q)), for the smoothing-length iteration.
   double dW_dh(double r) const {
     const double q = r * inv_h;
-    return -w_norm * inv_h * (D * K::w(q) + q * q * K::dw_over_q(q));
+    return -w_norm * inv_h * (D * K::w(q) + q * K::dw(q));
   }
 };
 

@@ -41,7 +41,7 @@ struct SmoothingLengthResult {
 // error is far below it.
 template <class K, int D>
 SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, std::span<const std::uint32_t> cand,
-                                          double h_start, double eta, double h_max, double tolerance = 1e-5) {
+                                          double h_start, double eta, double h_max, double tolerance = 1e-4) {
   // m_j and r_ij once; every iteration re-reads them contiguously.
   thread_local std::vector<double> mass_r;
   mass_r.resize(2 * cand.size());
@@ -58,7 +58,7 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
     for (std::size_t k = 0; k < cand.size(); ++k) {
       const double q = mass_r[2 * k + 1] * inv_h, w = K::w(q);
       sw += mass_r[2 * k] * w;
-      sdw += mass_r[2 * k] * (D * w + q * q * K::dw_over_q(q));
+      sdw += mass_r[2 * k] * (D * w + q * K::dw(q));
     }
     double norm = K::template sigma<D>();
     for (int d = 0; d < D; ++d) norm *= inv_h;

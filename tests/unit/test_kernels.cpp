@@ -88,3 +88,12 @@ TEST(Kernels, SmoothingLengthDerivativeMatchesFiniteDifference) {
   check_h_derivative<WendlandC2, 2>();
   check_h_derivative<WendlandC4, 3>();
 }
+
+// w'(q) written without division equals q (w'(q)/q).
+TEST(Kernels, DerivativeFormsAgree) {
+  for (double q = 0.0; q < 2.2; q += 0.01) {
+    EXPECT_NEAR(CubicSpline::dw(q), q * CubicSpline::dw_over_q(q), 1e-14);
+    EXPECT_NEAR(WendlandC2::dw(q), q * WendlandC2::dw_over_q(q), 1e-14);
+    EXPECT_NEAR(WendlandC4::dw(q), q * WendlandC4::dw_over_q(q), 1e-14);
+  }
+}
