@@ -76,8 +76,17 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, Radius
         const double r2 = radius * radius;
         const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
         for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
-          for (std::uint32_t s = s0; s < s1; ++s)
-            if (norm2(grid.sorted_pos[s] - xi) < r2 && grid.sorted[s] != i) idx.push_back(grid.sorted[s]);
+          // Branch-free append: every candidate is written, the end advances only for neighbours.
+          // About half the candidates are accepted at random, so a branch here mispredicts often.
+          std::size_t end = idx.size();
+          idx.resize(end + (s1 - s0));
+          std::uint32_t* out = idx.data();
+          for (std::uint32_t s = s0; s < s1; ++s) {
+            const std::uint32_t j = grid.sorted[s];
+            out[end] = j;
+            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & (j != i));
+          }
+          idx.resize(end);
         });
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
         if (keep > radius) {  // search again, wider
