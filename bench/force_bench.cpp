@@ -27,6 +27,7 @@ struct Args {
   std::vector<int> threads = {1, 2};
   int repeats = 5;
   bool symmetric = true;
+  bool adaptive = true;
 };
 
 Args parse(int argc, char** argv) {
@@ -37,6 +38,7 @@ Args parse(int argc, char** argv) {
     else if (key == "--neighbours") a.neighbours = std::stod(val);
     else if (key == "--repeats") a.repeats = std::stoi(val);
     else if (key == "--symmetric") a.symmetric = val != "0";
+    else if (key == "--adaptive") a.adaptive = val != "0";
     else if (key == "--threads") {
       a.threads.clear();
       std::size_t pos = 0;
@@ -46,7 +48,7 @@ Args parse(int argc, char** argv) {
         pos = comma == std::string::npos ? val.size() : comma + 1;
       }
     } else {
-      std::fprintf(stderr, "force_bench: unknown option %s (use --particles --neighbours --threads 1,2 --repeats --symmetric 0|1)\n", key.c_str());
+      std::fprintf(stderr, "force_bench: unknown option %s (use --particles --neighbours --threads 1,2 --repeats --symmetric 0|1 --adaptive 0|1)\n", key.c_str());
       std::exit(2);
     }
   }
@@ -86,19 +88,33 @@ int main(int argc, char** argv) {
   const double pairs = static_cast<double>(rates.neighbours().total());
   const double n = static_cast<double>(a.particles);
   std::printf("variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,pair_interactions_per_second\n");
-  auto row = [&](const char* variant, int threads, double sec) {
-    std::printf("%s,%d,%zu,%.1f,%.6g,%.6g,%.6g\n", variant, threads, a.particles, pairs / n, sec, n / sec, 3 * pairs / sec);
+  auto row = [&](const char* variant, int threads, double sec, double list_entries) {
+    std::printf("%s,%d,%zu,%.1f,%.6g,%.6g,%.6g\n", variant, threads, a.particles, list_entries / n, sec, n / sec,
+                3 * list_entries / sec);
     std::fflush(stdout);
   };
   for (int t : a.threads) {
     par::set_threads(t);
-    row("parallel", t, best_seconds(a.repeats, [&] { rates.evaluate(p); }));
+    row("parallel", t, best_seconds(a.repeats, [&] { rates.evaluate(p); }), pairs);
+  }
+  if (a.adaptive) {
+    // Adaptive smoothing lengths (the default of a run). The warm-up evaluation converges h; in a
+    // run particles move between evaluations, so the Newton solve takes ~2 iterations instead of 1
+    // here: these rows slightly underestimate its cost.
+    Particles<2> q = initial;
+    std::fill(q.h.begin(), q.h.end(), h);
+    RateEvaluator<2> adaptive(KernelType::Cubic, h, phys, timers, Smoothing::Adaptive, a.neighbours);
+    for (int t : a.threads) {
+      par::set_threads(t);
+      const double sec = best_seconds(a.repeats, [&] { adaptive.evaluate(q); });
+      row("parallel_adaptive", t, sec, static_cast<double>(adaptive.neighbours().total()));
+    }
   }
   par::set_threads(0);
   if (a.symmetric) {
     Particles<2> q = initial;
     bench::SymmetricSequential sym;
-    row("symmetric_sequential", 1, best_seconds(a.repeats, [&] { sym.evaluate(q, h, phys); }));
+    row("symmetric_sequential", 1, best_seconds(a.repeats, [&] { sym.evaluate(q, h, phys); }), pairs);
     // Same physics: accelerations agree to round-off.
     double worst = 0, scale = 0;
     for (std::size_t i = 0; i < p.size(); ++i) scale = std::max(scale, norm(p.acc[i]));
