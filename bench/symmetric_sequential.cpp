@@ -28,8 +28,14 @@ void build_half_lists(const CellGrid<2>& g, double radius, NeighbourLists& nl) {
       std::uint32_t s0 = g.offsets[g.linear({x0, y})];
       const std::uint32_t s1 = g.offsets[g.linear({x1, y}) + 1];
       if (y == cy) s0 = slot_of[i] + 1;  // same row: only what follows i
-      for (std::uint32_t s = s0; s < s1; ++s)
-        if (norm2(g.sorted_pos[s] - xi) < r2) nl.index.push_back(g.sorted[s]);
+      // Branch-free append, as in the parallel code's search (neighbour_lists.cpp).
+      std::size_t end = nl.index.size();
+      nl.index.resize(end + (s1 > s0 ? s1 - s0 : 0));
+      for (std::uint32_t s = s0; s < s1; ++s) {
+        nl.index[end] = g.sorted[s];
+        end += static_cast<std::size_t>(norm2(g.sorted_pos[s] - xi) < r2);
+      }
+      nl.index.resize(end);
     }
     nl.offsets[i + 1] = nl.index.size();
   }
