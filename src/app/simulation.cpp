@@ -146,6 +146,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.gradient_correction = cfg.gradient_correction;
+  s.phys.force_correction = cfg.force_correction;
   s.phys.accretion_radius = cfg.accretion_radius;
   s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
   s.ring.tau_start = cfg.tau_start;

@@ -149,6 +149,7 @@ const std::vector<KeyDef>& schema() {
       float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target neighbour number: sets eta (adaptive) or the global h from the initial conditions (constant)"),
       bool_key("sph.gradient_correction", &Config::gradient_correction, "velocity gradient renormalised to be exact for linear fields (false: plain P98 eq. 8)"),
       string_key("sph.smoothing", &Config::smoothing, {"adaptive", "constant"}, "adaptive: h_i = eta (m_i/rho_i)^(1/D) with eta from sph.neighbours (Phantom, GADGET); constant: one global h (P98 sec. 5.3)"),
+      bool_key("sph.force_correction", &Config::force_correction, "viscous force (eq. 6) with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
       string_key("integrator.scheme", &Config::scheme, {"leapfrog", "rk23", "rk45"}, "time integrator"),
       float_key("integrator.tolerance", &Config::tolerance, in_range(1e-14, 0.1), "relative error tolerance per step (rk23, rk45)"),

@@ -30,6 +30,7 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(rho,   Scalar, "Density",            kSnapshot,                            -2,  1,  0)     \
   X(volume, Scalar, "Volume",            0,                                     2,  0,  0)     \
   X(stress, Tensor, "KinematicStress",   0,                                     2,  0, -1)     \
+  X(correction, Tensor, "MomentCorrection", 0,                                   0,  0,  0)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)
 // clang-format on

@@ -65,6 +65,23 @@ constexpr Vec<D> contract(const Mat<D>& t, const Vec<D>& v) {
   return r;
 }
 
+// Matrix product (a b)_ik = a_ij b_jk.
+template <int D>
+constexpr Mat<D> operator*(const Mat<D>& a, const Mat<D>& b) {
+  Mat<D> r;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j)
+      for (int k = 0; k < D; ++k) r(i, k) += a(i, j) * b(j, k);
+  return r;
+}
+
+template <int D>
+constexpr Mat<D> identity() {
+  Mat<D> r;
+  for (int a = 0; a < D; ++a) r(a, a) = 1.0;
+  return r;
+}
+
 // Double contraction s_ab v_ab.
 template <int D>
 constexpr double double_dot(const Mat<D>& s, const Mat<D>& v) {

@@ -4,6 +4,7 @@
 //   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (physics.md 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
 //   gravity:  a_i -= G M x_i / |x_i|^3
+// With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
 // Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
 // The viscous sum is evaluated factored, with no division in the pair loop:
@@ -15,6 +16,7 @@
 #include "core/particles.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
+#include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
@@ -39,7 +41,8 @@ Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const Neighbo
   double work = 0.0;
   for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
     const std::uint32_t j = nl.index[k];
-    const Vec<D> gradW = (xi - p.pos[j]) * static_cast<double>(F[k]);
+    Vec<D> gradW = (xi - p.pos[j]) * static_cast<double>(F[k]);
+    if (phys.force_correction) gradW = corrected_pair_gradient(p.correction[i], p.correction[j], gradW);
     const double mj = p.mass[j];
     vol_grad += gradW * p.volume[j];
     stress_grad += contract(p.stress[j], gradW) * mj;

@@ -14,6 +14,7 @@ struct PhysicsParams {
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
   bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
+  bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
 };
 
 inline double pressure(const PhysicsParams& p, double rho) {

@@ -11,6 +11,7 @@
 #include "core/particles.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
+#include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
@@ -75,8 +76,38 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
+// With the force correction on (moment_correction.hpp): the stress from V M^-1 = V C_i as above,
+// and the heating from the gradient with the force's pair operator G_ij,
+//   V^G_i = sum_j (m_j/rho_j) (v_j - v_i) (x) G_ij = (V C_i + sum_j (m_j/rho_j) (v_j - v_i) (x) C_j grad W) / 2,
+// which keeps kinetic + internal energy exactly conserved. Needs p.correction of every particle.
+template <int D>
+Mat<D> corrected_heating_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
+                                     const PairFactors& F, const Mat<D>& V) {
+  const Vec<D> xi = p.pos[i], vi = p.vel[i];
+  Mat<D> H;
+  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
+    const std::uint32_t j = nl.index[k];
+    const Vec<D> g = contract(p.correction[j], (xi - p.pos[j]) * (p.volume[j] * static_cast<double>(F[k])));
+    const Vec<D> dv = p.vel[j] - vi;
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
+  }
+  const Mat<D> VC = V * p.correction[i];  // C symmetric: (C_i grad W)_b = grad W_c C_cb
+  for (std::size_t k = 0; k < H.c.size(); ++k) H.c[k] = 0.5 * (H.c[k] + VC.c[k]);
+  return H;
+}
+
 template <int D>
 void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
+  if (phys.force_correction) {
+    compute_moment_corrections(p, nl, F);
+    par::for_each(p.size(), [&](std::size_t i) {
+      const Mat<D> V = velocity_gradient_at(i, p, nl, F);
+      p.stress[i] = kinematic_stress(phys.gradient_correction ? V * p.correction[i] : V, phys);
+      p.du_dt[i] = double_dot(p.stress[i], corrected_heating_gradient_at(i, p, nl, F, V));
+    }, "velocity_gradient");
+    return;
+  }
   par::for_each(p.size(), [&](std::size_t i) {
     const GradientSums<D> g = gradient_sums_at(i, p, nl, F);
     p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
