@@ -17,27 +17,19 @@ constexpr std::size_t kBlock = 1024;
 }  // namespace
 
 template <int D>
-void build_interaction_lists(const NeighbourLists& cand, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
+void build_interaction_lists(const NeighbourLists& gather, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
                              const std::vector<std::uint64_t>& id, NeighbourLists& out) {
   const std::size_t n = pos.size();
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::uint32_t> gather_count(n);
   std::vector<std::vector<ScatterPair>> block_pairs(nblocks);
 
-  // Pass 1: gather neighbours of each i (r < 2 h_i), and the pairs j must receive because i lies
-  // inside 2 h_i but outside 2 h_j.
+  // Pass 1: the pairs j must receive because i lies inside 2 h_i but outside 2 h_j.
   par::for_each(nblocks, [&](std::size_t b) {
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
-      const double reach_i2 = 4.0 * h[i] * h[i];
-      std::uint32_t kept = 0;
-      for (const std::uint32_t* it = cand.begin(i); it != cand.end(i); ++it) {
+      for (const std::uint32_t* it = gather.begin(i); it != gather.end(i); ++it) {
         const std::uint32_t j = *it;
-        const double r2 = norm2(pos[i] - pos[j]);
-        if (r2 >= reach_i2) continue;
-        ++kept;
-        if (r2 >= 4.0 * h[j] * h[j]) block_pairs[b].push_back({j, static_cast<std::uint32_t>(i)});
+        if (norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]) block_pairs[b].push_back({j, static_cast<std::uint32_t>(i)});
       }
-      gather_count[i] = kept;
     }
   }, "neighbour_search", 1);
 
@@ -56,15 +48,12 @@ void build_interaction_lists(const NeighbourLists& cand, const std::vector<Vec<D
   out.offsets.resize(n + 1);
   out.offsets[0] = 0;
   for (std::size_t i = 0; i < n; ++i)
-    out.offsets[i + 1] = out.offsets[i] + gather_count[i] + (scatter_start[i + 1] - scatter_start[i]);
+    out.offsets[i + 1] = out.offsets[i] + gather.count(i) + (scatter_start[i + 1] - scatter_start[i]);
   out.index.resize(out.offsets[n]);
 
   // Pass 2: write each list.
   par::for_each(n, [&](std::size_t i) {
-    std::uint32_t* dst = out.index.data() + out.offsets[i];
-    const double reach_i2 = 4.0 * h[i] * h[i];
-    for (const std::uint32_t* it = cand.begin(i); it != cand.end(i); ++it)
-      if (norm2(pos[i] - pos[*it]) < reach_i2) *dst++ = *it;
+    std::uint32_t* dst = std::copy(gather.begin(i), gather.end(i), out.index.data() + out.offsets[i]);
     std::uint32_t* extra = dst;
     for (std::size_t k = scatter_start[i]; k < scatter_start[i + 1]; ++k) *dst++ = scatter[k];
     std::sort(extra, dst, [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });

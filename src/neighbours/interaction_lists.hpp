@@ -4,9 +4,9 @@
 // i and j interact when |x_i - x_j| < 2 max(h_i, h_j): through i's own support (gather) or through
 // the larger support of j (scatter). The relation is symmetric, so every pair sum built on these
 // lists keeps its i <-> j antisymmetry and with it momentum conservation.
-// Input: gather candidate lists in which i's list holds every j with |x_i - x_j| < 2 h_i (it may
-// hold more; they are filtered). Output order, fixed for any thread count: first i's gather
-// neighbours in candidate order, then the scatter-only neighbours by particle ID.
+// Input: gather lists in which i's list holds exactly the j with |x_i - x_j| < 2 h_i (as
+// build_settled_neighbour_lists returns them). Output order, fixed for any thread count: first i's
+// gather neighbours in their order, then the scatter-only neighbours by particle ID.
 #include <cstdint>
 #include <vector>
 
@@ -16,7 +16,7 @@
 namespace sphdisk {
 
 template <int D>
-void build_interaction_lists(const NeighbourLists& candidates, const std::vector<Vec<D>>& pos,
+void build_interaction_lists(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                              const std::vector<double>& h, const std::vector<std::uint64_t>& id, NeighbourLists& out);
 
 }  // namespace sphdisk
