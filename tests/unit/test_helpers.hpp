@@ -2,6 +2,9 @@
 // Particle sets shared by the unit tests.
 #include <cmath>
 #include <random>
+#include <string>
+
+#include <gtest/gtest.h>
 
 #include "core/particles.hpp"
 
@@ -43,6 +46,21 @@ inline std::vector<std::size_t> interior(const Particles<2>& p, double half_widt
   for (std::size_t i = 0; i < p.size(); ++i)
     if (std::abs(p.pos[i][0]) < half_width - margin && std::abs(p.pos[i][1]) < half_width - margin) out.push_back(i);
   return out;
+}
+
+// After a rate evaluation: sum m a = 0 and sum m (v . a + du/dt) = 0 to round-off, relative to
+// sum m |v . a| (exact conservation of momentum and of kinetic + internal energy).
+inline void expect_momentum_and_energy_conserved(const Particles<2>& p, const std::string& what) {
+  Vec<2> momentum_rate;
+  double energy_rate = 0, scale = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    momentum_rate += p.acc[i] * p.mass[i];
+    energy_rate += p.mass[i] * (dot(p.vel[i], p.acc[i]) + p.du_dt[i]);
+    scale += p.mass[i] * std::abs(dot(p.vel[i], p.acc[i]));
+  }
+  ASSERT_GT(scale, 0.0) << what;
+  EXPECT_LT(std::abs(momentum_rate[0]) + std::abs(momentum_rate[1]), 1e-12 * scale) << what;
+  EXPECT_LT(std::abs(energy_rate), 1e-12 * scale) << what;
 }
 
 }  // namespace sphdisk::test
