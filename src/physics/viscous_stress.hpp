@@ -59,11 +59,7 @@ template <int D>
 Mat<D> corrected_gradient(const GradientSums<D>& g) {
   Mat<D> Minv;
   if (!invert_if_well_conditioned(g.M, Minv)) return g.V;
-  Mat<D> G;
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b)
-      for (int c = 0; c < D; ++c) G(a, b) += g.V(a, c) * Minv(c, b);
-  return G;
+  return g.V * Minv;
 }
 
 template <int D>
