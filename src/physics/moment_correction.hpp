@@ -10,33 +10,16 @@
 // the same factor, so the force, and the effective viscosity, stay too small. G_ij corrects the
 // divergence to first order while keeping G_ji = -G_ij, so momentum and (with the matching heating)
 // energy remain exactly conserved. C_i falls back to the identity where M_i is singular.
-// Reads: pos, volume, pair factors. Writes: correction.
-#include "core/particles.hpp"
-#include "neighbours/neighbour_lists.hpp"
-#include "parallel/loops.hpp"
-#include "physics/pair_factors.hpp"
+#include "core/vec.hpp"
 
 namespace sphdisk {
 
+// C_i = M_i^-1, or the identity where M_i is singular. M comes from gradient_sums_at
+// (viscous_stress.hpp), which sums it with the velocity gradient in one pass.
 template <int D>
-Mat<D> moment_matrix_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  const Vec<D> xi = p.pos[i];
-  Mat<D> M;
-  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
-    const std::uint32_t j = nl.index[k];
-    const Vec<D> dx = xi - p.pos[j];
-    const double f = p.volume[j] * static_cast<double>(F[k]);
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) M(a, b) -= f * dx[a] * dx[b];
-  }
-  return M;
-}
-
-template <int D>
-void compute_moment_corrections(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  par::for_each(p.size(), [&](std::size_t i) {
-    if (!invert_if_well_conditioned(moment_matrix_at(i, p, nl, F), p.correction[i])) p.correction[i] = identity<D>();
-  }, "velocity_gradient");
+Mat<D> correction_from_moments(const Mat<D>& M) {
+  Mat<D> C;
+  return invert_if_well_conditioned(M, C) ? C : identity<D>();
 }
 
 // G_ij = (C_i + C_j) grad_i W_ij / 2.

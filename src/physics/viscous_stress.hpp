@@ -72,13 +72,14 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
-// With the force correction on (moment_correction.hpp): the stress from V M^-1 = V C_i as above,
-// and the heating from the gradient with the force's pair operator G_ij,
+// With the force correction on (moment_correction.hpp) the heating must use the gradient with the
+// force's pair operator G_ij,
 //   V^G_i = sum_j (m_j/rho_j) (v_j - v_i) (x) G_ij = (V C_i + sum_j (m_j/rho_j) (v_j - v_i) (x) C_j grad W) / 2,
-// which keeps kinetic + internal energy exactly conserved. Needs p.correction of every particle.
+// to keep kinetic + internal energy exactly conserved. The first half needs only particle i and is
+// added in the first pass; this is the second half, which needs p.correction of every neighbour.
 template <int D>
-Mat<D> corrected_heating_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
-                                     const PairFactors& F, const Mat<D>& V) {
+Mat<D> neighbour_corrected_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
+                                       const PairFactors& F) {
   const Vec<D> xi = p.pos[i], vi = p.vel[i];
   Mat<D> H;
   for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
@@ -88,29 +89,27 @@ Mat<D> corrected_heating_gradient_at(std::size_t i, const Particles<D>& p, const
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
   }
-  const Mat<D> VC = V * p.correction[i];  // C symmetric: (C_i grad W)_b = grad W_c C_cb
-  for (std::size_t k = 0; k < H.c.size(); ++k) H.c[k] = 0.5 * (H.c[k] + VC.c[k]);
   return H;
 }
 
 template <int D>
 void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
-  if (phys.force_correction) {
-    compute_moment_corrections(p, nl, F);
-    par::for_each(p.size(), [&](std::size_t i) {
-      const Mat<D> V = velocity_gradient_at(i, p, nl, F);
-      p.stress[i] = kinematic_stress(phys.gradient_correction ? V * p.correction[i] : V, phys);
-      p.du_dt[i] = double_dot(p.stress[i], corrected_heating_gradient_at(i, p, nl, F, V));
-    }, "velocity_gradient");
-    return;
-  }
   par::for_each(p.size(), [&](std::size_t i) {
     const GradientSums<D> g = gradient_sums_at(i, p, nl, F);
     p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
-    // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
-    // energy stay exactly conserved whichever gradient sets the stress.
-    p.du_dt[i] = double_dot(p.stress[i], g.V);
+    if (phys.force_correction) {
+      p.correction[i] = correction_from_moments(g.M);
+      p.du_dt[i] = 0.5 * double_dot(p.stress[i], g.V * p.correction[i]);  // C symmetric: V C_i^T = V C_i
+    } else {
+      // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
+      // energy stay exactly conserved whichever gradient sets the stress.
+      p.du_dt[i] = double_dot(p.stress[i], g.V);
+    }
   }, "velocity_gradient");
+  if (phys.force_correction)
+    par::for_each(p.size(), [&](std::size_t i) {
+      p.du_dt[i] += 0.5 * double_dot(p.stress[i], neighbour_corrected_gradient_at(i, p, nl, F));
+    }, "velocity_gradient");
 }
 
 }  // namespace sphdisk
