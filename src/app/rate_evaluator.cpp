@@ -78,6 +78,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
+      if (refresh_) throw UserError("adaptive smoothing lengths are not yet supported on more than one MPI rank; set sph.smoothing = \"constant\" or run on one rank");
       adaptive_lists<K>(p);
       ScopedPhase t(timers_, "density");
       compute_density(p, lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
@@ -87,7 +88,10 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     std::fill(p.h.begin(), p.h.end(), h_);  // what the timestep criteria and the snapshots read
     {
       ScopedPhase t(timers_, "cell_build");
-      build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
+      if (has_lattice_)
+        build_cell_grid(lattice_, p.pos, p.id, grid_);
+      else
+        build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
     }
     {
       ScopedPhase t(timers_, "neighbour_search");
@@ -96,9 +100,15 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     ScopedPhase t(timers_, "density");
     compute_density(p, lists_, KernelAt<K, D>(h_), factors_);
   });
+  if (refresh_) refresh_(p, GhostStage::Density);
   {
     ScopedPhase t(timers_, "velocity_gradient");
     compute_viscous_stress(p, lists_, factors_, phys_);
+  }
+  if (refresh_) refresh_(p, GhostStage::Stress);
+  if (phys_.force_correction) {
+    ScopedPhase t(timers_, "velocity_gradient");
+    add_force_corrected_heating(p, lists_, factors_);
   }
   {
     ScopedPhase t(timers_, "forces");

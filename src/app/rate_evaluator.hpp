@@ -4,6 +4,7 @@
 // under its phase timer; this is the function the integrators call.
 // Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
 // the neighbour lists.
+#include <functional>
 #include <tuple>
 #include <vector>
 
@@ -24,6 +25,14 @@ enum class Smoothing {
 
 Smoothing smoothing_from_name(std::string_view name);
 
+// Points in an evaluation after which ghost particles (copies of other ranks' particles, stored
+// after the owned ones: distributed_domain.hpp) must get their owners' values before owned
+// particles read them.
+enum class GhostStage {
+  Density,  // rho, volume
+  Stress,   // stress, correction
+};
+
 template <int D>
 class RateEvaluator {
  public:
@@ -33,6 +42,12 @@ class RateEvaluator {
                 Smoothing smoothing = Smoothing::Constant, double neighbours = 60.0);
 
   void evaluate(Particles<D>& p);
+
+  // Distributed runs: the lattice every rank's cell grid is built on (so neighbours come in the same
+  // order on every rank), and the ghost update called at each GhostStage. A single process needs
+  // neither. Only constant smoothing lengths are supported with ghosts so far.
+  void set_lattice(const Lattice<D>& lattice) { lattice_ = lattice; has_lattice_ = true; }
+  void set_ghost_refresh(std::function<void(Particles<D>&, GhostStage)> refresh) { refresh_ = std::move(refresh); }
 
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
@@ -55,6 +70,9 @@ class RateEvaluator {
   Smoothing smoothing_;
   double eta_;
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
+  Lattice<D> lattice_;
+  bool has_lattice_ = false;
+  std::function<void(Particles<D>&, GhostStage)> refresh_;
   NeighbourLists lists_;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;

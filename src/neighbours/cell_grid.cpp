@@ -10,7 +10,7 @@ namespace sphdisk {
 
 template <int D>
 int CellGrid<D>::coord(double x, int k) const {
-  const double c = std::floor((x - lo[k]) / cell_size);
+  const double c = std::floor((x - lo[k]) / cell_size) - origin[static_cast<std::size_t>(k)];
   if (!(c >= 0)) return 0;  // also catches NaN
   return c >= dims[static_cast<std::size_t>(k)] ? dims[static_cast<std::size_t>(k)] - 1 : static_cast<int>(c);
 }
@@ -55,30 +55,60 @@ void bounding_box(const std::vector<Vec<D>>& pos, Vec<D>& lo, Vec<D>& hi) {
 }
 
 template <int D>
+Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, double min_cell_size) {
+  Lattice<D> L;
+  L.lo = lo;
+  const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
+  L.cell_size = min_cell_size;
+  for (;;) {
+    double ncells = 1;
+    for (int k = 0; k < D; ++k) ncells *= std::floor((hi[k] - lo[k]) / L.cell_size) + 1.0;
+    if (ncells <= max_cells) break;
+    L.cell_size *= 1.25;
+  }
+  for (int k = 0; k < D; ++k)
+    L.dims[static_cast<std::size_t>(k)] = static_cast<int>(std::floor((hi[k] - lo[k]) / L.cell_size)) + 1;
+  return L;
+}
+
+template <int D>
 void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
                      CellGrid<D>& g) {
+  if (pos.empty()) {
+    build_cell_grid(Lattice<D>{Vec<D>{}, min_cell_size, {}}, pos, id, g);
+    return;
+  }
+  Vec<D> lo, hi;
+  bounding_box(pos, lo, hi);
+  build_cell_grid(make_lattice(lo, hi, pos.size(), min_cell_size), pos, id, g);
+}
+
+template <int D>
+void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
+                     CellGrid<D>& g) {
   const std::size_t n = pos.size();
-  Vec<D> hi;
+  g.lo = lattice.lo;
+  g.cell_size = lattice.cell_size;
   if (n == 0) {
-    g.cell_size = min_cell_size;
+    g.origin.fill(0);
     g.dims.fill(1);
     g.offsets.assign(2, 0);
     g.sorted.clear();
     g.sorted_pos.clear();
     return;
   }
-  bounding_box(pos, g.lo, hi);
-  const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
-  g.cell_size = min_cell_size;
-  for (;;) {
-    double ncells = 1;
-    for (int k = 0; k < D; ++k)
-      ncells *= std::floor((hi[k] - g.lo[k]) / g.cell_size) + 1.0;
-    if (ncells <= max_cells) break;
-    g.cell_size *= 1.25;
+  // This grid spans the lattice cells of the particles' bounding box (all of the lattice when pos
+  // holds every particle).
+  Vec<D> lo, hi;
+  bounding_box(pos, lo, hi);
+  g.origin.fill(0);
+  g.dims = lattice.dims;
+  for (int k = 0; k < D; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const int first = g.coord(lo[k], k), last = g.coord(hi[k], k);
+    g.origin[kk] = first;
+    g.dims[kk] = last - first + 1;
   }
-  for (int k = 0; k < D; ++k)
-    g.dims[static_cast<std::size_t>(k)] = static_cast<int>(std::floor((hi[k] - g.lo[k]) / g.cell_size)) + 1;
 
   std::size_t ncells = 1;
   for (int d : g.dims) ncells *= static_cast<std::size_t>(d);
@@ -115,6 +145,10 @@ void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint
 
 template struct CellGrid<2>;
 template struct CellGrid<3>;
+template Lattice<2> make_lattice(const Vec<2>&, const Vec<2>&, std::size_t, double);
+template Lattice<3> make_lattice(const Vec<3>&, const Vec<3>&, std::size_t, double);
+template void build_cell_grid(const Lattice<2>&, const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, CellGrid<2>&);
+template void build_cell_grid(const Lattice<3>&, const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, CellGrid<3>&);
 template void build_cell_grid(const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, double, CellGrid<2>&);
 template void build_cell_grid(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double, CellGrid<3>&);
 template void bounding_box(const std::vector<Vec<2>>&, Vec<2>&, Vec<2>&);

@@ -3,7 +3,12 @@
 // permutation of particle indices sorted by cell plus an offsets array of size ncells + 1 (as in
 // AMReX). Built in O(N) by a counting sort. Inside a cell, particles are ordered by particle ID, so
 // neighbour order, and hence every floating-point sum, depends only on positions and IDs — not on
-// memory order, thread count or (later) rank count.
+// memory order, thread count or rank count.
+//
+// The cells are those of a Lattice (corner, cell size), which every rank of a distributed run shares;
+// a rank's grid covers only the lattice cells around its own particles (origin = the lattice index
+// of its cell (0, ..., 0)). Cell coordinates are always computed from the lattice corner, so a
+// particle falls into the same cell on every rank and neighbours come in the same order.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -13,9 +18,23 @@
 namespace sphdisk {
 
 template <int D>
+struct Lattice {
+  Vec<D> lo;             // corner of lattice cell (0, ..., 0)
+  double cell_size = 0;
+  std::array<int, D> dims{};  // cells per dimension covering all particles (of all ranks)
+};
+
+// The lattice over the box [lo, hi] holding n particles in total, with cells no smaller than
+// min_cell_size. The cell size grows if needed to keep the number of cells <= max(4 n, 1024): a
+// stray far-away particle cannot blow up memory.
+template <int D>
+Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, double min_cell_size);
+
+template <int D>
 struct CellGrid {
-  Vec<D> lo;                    // lower corner of cell (0, ..., 0)
+  Vec<D> lo;                    // corner of the lattice (not of this grid)
   double cell_size = 0;         // >= interaction radius
+  std::array<int, D> origin{};  // lattice index of this grid's cell (0, ..., 0)
   std::array<int, D> dims{};    // cells per dimension
   std::vector<std::uint32_t> sorted;   // particle indices, cell by cell
   std::vector<std::uint32_t> offsets;  // cell c holds sorted[offsets[c] .. offsets[c+1])
@@ -28,12 +47,15 @@ struct CellGrid {
   std::size_t cell_of(const Vec<D>& x) const;
 };
 
-// Builds the grid over the bounding box of pos with cells no smaller than min_cell_size. The cell
-// size grows if needed to keep the number of cells <= max(4 N, 1024): a stray far-away particle
-// cannot blow up memory.
-// Fills `g` in place, reusing its memory.
+// Builds the grid over the bounding box of pos on make_lattice's lattice (one process holding all
+// particles). Fills `g` in place, reusing its memory.
 template <int D>
 void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
+                     CellGrid<D>& g);
+
+// Builds the grid of the lattice cells that hold pos (this rank's particles and ghosts).
+template <int D>
+void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
                      CellGrid<D>& g);
 
 template <int D>

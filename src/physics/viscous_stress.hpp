@@ -106,10 +106,15 @@ void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const Pai
       p.du_dt[i] = double_dot(p.stress[i], g.V);
     }
   }, "velocity_gradient");
-  if (phys.force_correction)
-    par::for_each(p.size(), [&](std::size_t i) {
-      p.du_dt[i] += 0.5 * double_dot(p.stress[i], neighbour_corrected_gradient_at(i, p, nl, F));
-    }, "velocity_gradient");
+}
+
+// The second half of the heating with the force correction (see neighbour_corrected_gradient_at);
+// reads every neighbour's p.correction, so it runs after compute_viscous_stress has set them all.
+template <int D>
+void add_force_corrected_heating(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
+  par::for_each(p.size(), [&](std::size_t i) {
+    p.du_dt[i] += 0.5 * double_dot(p.stress[i], neighbour_corrected_gradient_at(i, p, nl, F));
+  }, "velocity_gradient");
 }
 
 }  // namespace sphdisk

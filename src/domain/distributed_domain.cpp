@@ -1,0 +1,178 @@
+#include "domain/distributed_domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+#include "core/error.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+bool selected(const FieldNames& fields, std::string_view name) {
+  return fields.empty() || std::find(fields.begin(), fields.end(), name) != fields.end();
+}
+
+// Buffer layout: particle count, then each selected field in table order.
+template <int D>
+std::vector<std::byte> pack(const Particles<D>& p, const std::vector<std::uint32_t>& idx, const FieldNames& fields) {
+  std::vector<std::byte> buf(sizeof(std::uint64_t));
+  const std::uint64_t n = idx.size();
+  std::memcpy(buf.data(), &n, sizeof n);
+  p.for_each_field([&](const FieldInfo& info, const auto& v) {
+    using T = typename std::remove_reference_t<decltype(v)>::value_type;
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (!selected(fields, info.name)) return;
+    const std::size_t at = buf.size();
+    buf.resize(at + idx.size() * sizeof(T));
+    for (std::size_t k = 0; k < idx.size(); ++k) std::memcpy(buf.data() + at + k * sizeof(T), &v[idx[k]], sizeof(T));
+  });
+  return buf;
+}
+
+std::uint64_t packed_count(const std::vector<std::byte>& buf) {
+  std::uint64_t n = 0;
+  if (buf.size() >= sizeof n) std::memcpy(&n, buf.data(), sizeof n);
+  return n;
+}
+
+// Writes the buffer's particles into p at [first, first + count) (p already large enough).
+template <int D>
+void unpack(Particles<D>& p, std::size_t first, const std::vector<std::byte>& buf, const FieldNames& fields) {
+  const std::uint64_t n = packed_count(buf);
+  std::size_t at = sizeof(std::uint64_t);
+  p.for_each_field([&](const FieldInfo& info, auto& v) {
+    using T = typename std::remove_reference_t<decltype(v)>::value_type;
+    if (!selected(fields, info.name)) return;
+    if (n > 0) std::memcpy(static_cast<void*>(&v[first]), buf.data() + at, n * sizeof(T));
+    at += n * sizeof(T);
+  });
+}
+
+}  // namespace
+
+template <int D>
+Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, double min_cell_size,
+                           std::size_t top_cells_per_rank) {
+  std::array<double, D> lo, hi;
+  lo.fill(std::numeric_limits<double>::max());
+  hi.fill(std::numeric_limits<double>::lowest());
+  for (const Vec<D>& x : p.pos)
+    for (int k = 0; k < D; ++k) {
+      lo[static_cast<std::size_t>(k)] = std::min(lo[static_cast<std::size_t>(k)], x[k]);
+      hi[static_cast<std::size_t>(k)] = std::max(hi[static_cast<std::size_t>(k)], x[k]);
+    }
+  comm.min(lo);
+  comm.max(hi);
+  const std::uint64_t n = comm.sum(p.size());
+  if (n == 0) throw UserError("no particles to distribute over the ranks");
+  Vec<D> vlo, vhi;
+  for (int k = 0; k < D; ++k) {
+    vlo[k] = lo[static_cast<std::size_t>(k)];
+    vhi[k] = hi[static_cast<std::size_t>(k)];
+  }
+  Decomposition<D> d = make_top_grid(make_lattice(vlo, vhi, n, min_cell_size),
+                                     top_cells_per_rank * static_cast<std::size_t>(comm.size()));
+  std::vector<std::uint64_t> counts(d.top_cells(), 0);
+  for (const Vec<D>& x : p.pos) ++counts[d.top_cell_of(x)];
+  comm.sum(counts);
+  assign_owners(d, counts, comm.size());
+  return d;
+}
+
+template <int D>
+void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  std::vector<std::vector<std::uint32_t>> leaving(ranks);
+  std::vector<std::uint32_t> staying;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const int r = d.owner_of(p.pos[i]);
+    (r == comm.rank() ? staying : leaving[static_cast<std::size_t>(r)]).push_back(static_cast<std::uint32_t>(i));
+  }
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    if (!leaving[r].empty()) send[r] = pack(p, leaving[r], {});
+  const auto recv = comm.exchange(send);
+  p.gather(staying);
+  for (const auto& buf : recv) {
+    if (buf.empty()) continue;
+    const std::size_t first = p.size();
+    p.resize(first + packed_count(buf));
+    unpack(p, first, buf, {});
+  }
+}
+
+template <int D>
+void Halo<D>::build(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p,
+                    const std::function<double(std::size_t)>& radius) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  owned_ = p.size();
+  send_.assign(ranks, {});
+  const double edge = d.lattice.cell_size * d.block;
+  std::vector<int> to;
+  for (std::size_t j = 0; j < owned_; ++j) {
+    // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
+    const double R = radius(j) * (1.0 + 1e-12);
+    const int reach = static_cast<int>(std::ceil(R / edge));
+    const std::array<int, D> t = d.top_coord(p.pos[j]);
+    to.clear();
+    std::array<int, D> c{};
+    std::array<int, D> lo_c, hi_c;
+    for (int k = 0; k < D; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      lo_c[kk] = std::max(t[kk] - reach, 0);
+      hi_c[kk] = std::min(t[kk] + reach, d.top_dims[kk] - 1);
+      c[kk] = lo_c[kk];
+    }
+    for (;;) {  // every top cell in the box lo_c..hi_c
+      const int r = d.owner[d.top_index(c)];
+      if (r != comm.rank() && std::find(to.begin(), to.end(), r) == to.end() && d.distance2_to(p.pos[j], c) < R * R)
+        to.push_back(r);
+      int k = 0;
+      for (; k < D; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        if (++c[kk] <= hi_c[kk]) break;
+        c[kk] = lo_c[kk];
+      }
+      if (k == D) break;
+    }
+    for (const int r : to) send_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(j));
+  }
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    if (!send_[r].empty()) send[r] = pack(p, send_[r], {});
+  const auto recv = comm.exchange(send);
+  ghosts_ = 0;
+  for (const auto& buf : recv) ghosts_ += packed_count(buf);
+  p.resize(owned_ + ghosts_);
+  std::size_t first = owned_;
+  for (const auto& buf : recv) {
+    unpack(p, first, buf, {});
+    first += packed_count(buf);
+  }
+}
+
+template <int D>
+void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    if (!send_[r].empty()) send[r] = pack(p, send_[r], fields);
+  const auto recv = comm.exchange(send);
+  std::size_t first = owned_;
+  for (const auto& buf : recv) {  // same ranks, same order as build(): the same ghost slots
+    unpack(p, first, buf, fields);
+    first += packed_count(buf);
+  }
+}
+
+template Decomposition<2> decompose(const Communicator&, const Particles<2>&, double, std::size_t);
+template Decomposition<3> decompose(const Communicator&, const Particles<3>&, double, std::size_t);
+template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>&);
+template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
+template class Halo<2>;
+template class Halo<3>;
+
+}  // namespace sphdisk

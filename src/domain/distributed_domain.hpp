@@ -1,0 +1,54 @@
+#pragma once
+// Particles spread over ranks: decomposition from global counts, migration of particles to their
+// owners, and the halo of ghost particles each rank needs for its owned particles' neighbour sums.
+// Memory per rank is O(N/P + halo): no rank ever holds all particles (unlike P98's broadcast).
+//
+// Ghosts are copies of other ranks' particles, appended after the owned ones
+// ([0, owned) owned, [owned, size) ghosts). They are chosen by their owners: particle j goes to rank
+// R when it lies within radius(j) of a top cell of R. Rates computed for ghosts are incomplete and
+// are overwritten by refresh() with the owners' values before any owned particle reads them.
+#include <functional>
+#include <initializer_list>
+#include <string_view>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "domain/decomposition.hpp"
+#include "parallel/communicator.hpp"
+
+namespace sphdisk {
+
+// The fields to move: empty = every field of the table.
+using FieldNames = std::vector<std::string_view>;
+
+// The lattice over all ranks' particles and the top cells cut into equal-count runs.
+// min_cell_size as for build_cell_grid; top_cells_per_rank sets the balancing granularity.
+template <int D>
+Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, double min_cell_size,
+                           std::size_t top_cells_per_rank = 256);
+
+// Sends every particle to the rank owning its top cell. Owned particles only (no ghosts).
+template <int D>
+void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p);
+
+template <int D>
+class Halo {
+ public:
+  // Appends the ghosts: every other rank's particle j within radius(j) of one of this rank's top
+  // cells. p must hold owned particles only.
+  void build(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p,
+             const std::function<double(std::size_t)>& radius);
+  // Copies the owners' current values of `fields` into the ghosts (same ghosts as build()).
+  void refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const;
+  // Removes the ghosts.
+  void drop(Particles<D>& p) const { p.resize(owned_); }
+
+  std::size_t owned() const { return owned_; }
+  std::size_t ghosts() const { return ghosts_; }
+
+ private:
+  std::vector<std::vector<std::uint32_t>> send_;  // per rank: owned particles sent as ghosts
+  std::size_t owned_ = 0, ghosts_ = 0;
+};
+
+}  // namespace sphdisk

@@ -1,0 +1,145 @@
+#include "parallel/communicator.hpp"
+
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+#ifdef SPHDISK_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace sphdisk {
+
+#ifdef SPHDISK_HAVE_MPI
+
+namespace {
+
+MPI_Comm comm_of(void* h) { return *static_cast<MPI_Comm*>(h); }
+
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI call failed: ") + what);
+}
+
+}  // namespace
+
+Communicator Communicator::world() {
+  static MPI_Comm world = MPI_COMM_WORLD;
+  int initialised = 0;
+  MPI_Initialized(&initialised);
+  if (!initialised) return Communicator(0, 1, nullptr);  // e.g. unit tests: one process, no MPI
+  int rank = 0, size = 1;
+  check(MPI_Comm_rank(world, &rank), "MPI_Comm_rank");
+  check(MPI_Comm_size(world, &size), "MPI_Comm_size");
+  return Communicator(rank, size, &world);
+}
+
+double Communicator::min(double x) const {
+  if (size_ == 1) return x;
+  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, comm_of(handle_)), "MPI_Allreduce");
+  return x;
+}
+double Communicator::max(double x) const {
+  if (size_ == 1) return x;
+  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm_of(handle_)), "MPI_Allreduce");
+  return x;
+}
+std::uint64_t Communicator::sum(std::uint64_t x) const {
+  if (size_ == 1) return x;
+  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_UINT64_T, MPI_SUM, comm_of(handle_)), "MPI_Allreduce");
+  return x;
+}
+void Communicator::min(std::span<double> x) const {
+  if (size_ == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_DOUBLE, MPI_MIN, comm_of(handle_)),
+        "MPI_Allreduce");
+}
+void Communicator::max(std::span<double> x) const {
+  if (size_ == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_DOUBLE, MPI_MAX, comm_of(handle_)),
+        "MPI_Allreduce");
+}
+void Communicator::sum(std::span<std::uint64_t> x) const {
+  if (size_ == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_UINT64_T, MPI_SUM, comm_of(handle_)),
+        "MPI_Allreduce");
+}
+bool Communicator::any(bool x) const {
+  if (size_ == 1) return x;
+  int v = x ? 1 : 0;
+  check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MAX, comm_of(handle_)), "MPI_Allreduce");
+  return v != 0;
+}
+
+std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
+  const auto p = static_cast<std::size_t>(size_);
+  if (send.size() != p) throw std::logic_error("Communicator::exchange: one buffer per rank expected");
+  if (size_ == 1) return send;
+  // Counts first, then the data; MPI counts are int, so large messages go as 8-byte words.
+  std::vector<long long> send_bytes(p), recv_bytes(p);
+  for (std::size_t r = 0; r < p; ++r) send_bytes[r] = static_cast<long long>(send[r].size());
+  check(MPI_Alltoall(send_bytes.data(), 1, MPI_LONG_LONG, recv_bytes.data(), 1, MPI_LONG_LONG, comm_of(handle_)),
+        "MPI_Alltoall");
+  auto words = [](long long bytes) { return static_cast<int>((bytes + 7) / 8); };
+  std::vector<int> scount(p), sdispl(p), rcount(p), rdispl(p);
+  int stotal = 0, rtotal = 0;
+  for (std::size_t r = 0; r < p; ++r) {
+    scount[r] = words(send_bytes[r]);
+    rcount[r] = words(recv_bytes[r]);
+    sdispl[r] = stotal;
+    rdispl[r] = rtotal;
+    stotal += scount[r];
+    rtotal += rcount[r];
+  }
+  std::vector<std::uint64_t> sbuf(static_cast<std::size_t>(stotal)), rbuf(static_cast<std::size_t>(rtotal));
+  for (std::size_t r = 0; r < p; ++r)
+    if (!send[r].empty()) std::memcpy(sbuf.data() + sdispl[r], send[r].data(), send[r].size());
+  check(MPI_Alltoallv(sbuf.data(), scount.data(), sdispl.data(), MPI_UINT64_T, rbuf.data(), rcount.data(),
+                      rdispl.data(), MPI_UINT64_T, comm_of(handle_)),
+        "MPI_Alltoallv");
+  std::vector<std::vector<std::byte>> recv(p);
+  for (std::size_t r = 0; r < p; ++r) {
+    recv[r].resize(static_cast<std::size_t>(recv_bytes[r]));
+    if (!recv[r].empty()) std::memcpy(recv[r].data(), rbuf.data() + rdispl[r], recv[r].size());
+  }
+  return recv;
+}
+
+void Communicator::barrier() const {
+  if (size_ > 1) check(MPI_Barrier(comm_of(handle_)), "MPI_Barrier");
+}
+
+MpiSession::MpiSession(int& argc, char**& argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+}
+
+MpiSession::~MpiSession() { MPI_Finalize(); }
+
+void abort_all_ranks(int code) {
+  int initialised = 0;
+  MPI_Initialized(&initialised);
+  if (initialised) MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);
+}
+
+#else  // one rank
+
+Communicator Communicator::world() { return Communicator(0, 1, nullptr); }
+double Communicator::min(double x) const { return x; }
+double Communicator::max(double x) const { return x; }
+std::uint64_t Communicator::sum(std::uint64_t x) const { return x; }
+void Communicator::min(std::span<double>) const {}
+void Communicator::max(std::span<double>) const {}
+void Communicator::sum(std::span<std::uint64_t>) const {}
+bool Communicator::any(bool x) const { return x; }
+std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
+  return send;
+}
+void Communicator::barrier() const {}
+MpiSession::MpiSession(int&, char**&) {}
+MpiSession::~MpiSession() = default;
+void abort_all_ranks(int code) { std::_Exit(code); }
+
+#endif
+
+}  // namespace sphdisk

@@ -1,0 +1,59 @@
+#pragma once
+// The distributed half of the parallel layer: the ONLY code that knows about MPI (loops.hpp is the
+// only code that knows about threads). Built without MPI (SPHDISK_MPI=OFF) it is a communicator of
+// one rank, so every caller is written once for any number of ranks.
+//
+// Determinism: reductions offered here are exact (min, max, integer sums), so every rank gets the
+// same bits whatever the rank count; floating-point sums, whose bits depend on the order, are
+// deliberately not offered.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace sphdisk {
+
+class Communicator {
+ public:
+  // The world communicator (MPI must be initialised: see MpiSession).
+  static Communicator world();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool is_root() const { return rank_ == 0; }
+
+  double min(double x) const;
+  double max(double x) const;
+  std::uint64_t sum(std::uint64_t x) const;
+  // Element-wise over all ranks, in place.
+  void min(std::span<double> x) const;
+  void max(std::span<double> x) const;
+  void sum(std::span<std::uint64_t> x) const;
+  // True on every rank when any rank passes true (a collective decision).
+  bool any(bool x) const;
+
+  // Personalised all-to-all: send[r] goes to rank r; returns what each rank sent here, by rank.
+  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& send) const;
+
+  void barrier() const;
+
+ private:
+  Communicator(int rank, int size, void* handle) : rank_(rank), size_(size), handle_(handle) {}
+  int rank_ = 0, size_ = 1;
+  void* handle_ = nullptr;  // MPI_Comm when built with MPI
+};
+
+// Initialises MPI for the program's lifetime (threads are used inside each rank: the funnelled level
+// suffices, as only the main thread communicates). A no-op without MPI.
+class MpiSession {
+ public:
+  MpiSession(int& argc, char**& argv);
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+};
+
+// Aborts every rank (a rank that fails alone would leave the others waiting forever).
+[[noreturn]] void abort_all_ranks(int code);
+
+}  // namespace sphdisk
