@@ -78,20 +78,26 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
-      if (refresh_) throw UserError("adaptive smoothing lengths are not yet supported on more than one MPI rank; set sph.smoothing = \"constant\" or run on one rank");
+      if (domain_) throw UserError("adaptive smoothing lengths are not yet supported on more than one MPI rank; set sph.smoothing = \"constant\" or run on one rank");
       adaptive_lists<K>(p);
       ScopedPhase t(timers_, "density");
       compute_density(p, lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
-    std::fill(p.h.begin(), p.h.end(), h_);  // what the timestep criteria and the snapshots read
-    {
+    if (domain_) {
+      Lattice<D> lattice;
+      {
+        ScopedPhase t(timers_, "communication");
+        lattice = domain_->add_ghosts(p, 0.5 * support, support);
+      }
+      std::fill(p.h.begin(), p.h.end(), h_);  // what the timestep criteria and the snapshots read
       ScopedPhase t(timers_, "cell_build");
-      if (has_lattice_)
-        build_cell_grid(lattice_, p.pos, p.id, grid_);
-      else
-        build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
+      build_cell_grid(lattice, p.pos, p.id, grid_);
+    } else {
+      std::fill(p.h.begin(), p.h.end(), h_);
+      ScopedPhase t(timers_, "cell_build");
+      build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
     }
     {
       ScopedPhase t(timers_, "neighbour_search");
@@ -100,12 +106,12 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     ScopedPhase t(timers_, "density");
     compute_density(p, lists_, KernelAt<K, D>(h_), factors_);
   });
-  if (refresh_) refresh_(p, GhostStage::Density);
+  refresh_ghosts(p, GhostStage::Density);
   {
     ScopedPhase t(timers_, "velocity_gradient");
     compute_viscous_stress(p, lists_, factors_, phys_);
   }
-  if (refresh_) refresh_(p, GhostStage::Stress);
+  refresh_ghosts(p, GhostStage::Stress);
   if (phys_.force_correction) {
     ScopedPhase t(timers_, "velocity_gradient");
     add_force_corrected_heating(p, lists_, factors_);
@@ -115,7 +121,15 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     compute_accelerations(p, lists_, factors_, phys_);
   }
   ++evaluations_;
-  pairs_ += lists_.total();
+  if (domain_) domain_->remove_ghosts(p);
+  pairs_ += lists_.offsets[p.size()];  // owned particles' pairs (ghosts' lists are scratch)
+}
+
+template <int D>
+void RateEvaluator<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
+  if (!domain_) return;
+  ScopedPhase t(timers_, "communication");
+  domain_->refresh_ghosts(p, stage);
 }
 
 template class RateEvaluator<2>;

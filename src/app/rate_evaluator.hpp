@@ -4,12 +4,12 @@
 // under its phase timer; this is the function the integrators call.
 // Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
 // the neighbour lists.
-#include <functional>
 #include <tuple>
 #include <vector>
 
 #include "core/particles.hpp"
 #include "core/timers.hpp"
+#include "domain/particle_domain.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "physics/kernels.hpp"
@@ -25,13 +25,6 @@ enum class Smoothing {
 
 Smoothing smoothing_from_name(std::string_view name);
 
-// Points in an evaluation after which ghost particles (copies of other ranks' particles, stored
-// after the owned ones: distributed_domain.hpp) must get their owners' values before owned
-// particles read them.
-enum class GhostStage {
-  Density,  // rho, volume
-  Stress,   // stress, correction
-};
 
 template <int D>
 class RateEvaluator {
@@ -43,11 +36,14 @@ class RateEvaluator {
 
   void evaluate(Particles<D>& p);
 
-  // Distributed runs: the lattice every rank's cell grid is built on (so neighbours come in the same
-  // order on every rank), and the ghost update called at each GhostStage. A single process needs
-  // neither. Only constant smoothing lengths are supported with ghosts so far.
-  void set_lattice(const Lattice<D>& lattice) { lattice_ = lattice; has_lattice_ = true; }
-  void set_ghost_refresh(std::function<void(Particles<D>&, GhostStage)> refresh) { refresh_ = std::move(refresh); }
+  // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
+  // its cells on the shared lattice, refreshes the ghosts between passes and removes them again.
+  // Null: one process holds all particles.
+  void set_domain(ParticleDomain<D>* domain) { domain_ = domain; }
+  ParticleDomain<D>* domain() const { return domain_; }
+  // Smallest / largest over all processes (timestep and error norms of the integrators).
+  double global_min(double x) const { return domain_ ? domain_->min(x) : x; }
+  double global_max(double x) const { return domain_ ? domain_->max(x) : x; }
 
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
@@ -62,6 +58,7 @@ class RateEvaluator {
  private:
   template <class K>
   void adaptive_lists(Particles<D>& p);
+  void refresh_ghosts(Particles<D>& p, GhostStage stage);
 
   KernelType kernel_;
   double h_;
@@ -70,9 +67,7 @@ class RateEvaluator {
   Smoothing smoothing_;
   double eta_;
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
-  Lattice<D> lattice_;
-  bool has_lattice_ = false;
-  std::function<void(Particles<D>&, GhostStage)> refresh_;
+  ParticleDomain<D>* domain_ = nullptr;
   NeighbourLists lists_;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;

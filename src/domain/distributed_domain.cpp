@@ -53,9 +53,11 @@ void unpack(Particles<D>& p, std::size_t first, const std::vector<std::byte>& bu
 
 }  // namespace
 
+// The lattice over every rank's particles, exactly as one process would build it over all of them
+// (min and max are exact, so the corner and cell size have the same bits), and the top grid on it.
 template <int D>
-Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, double min_cell_size,
-                           std::size_t top_cells_per_rank) {
+Decomposition<D> global_top_grid(const Communicator& comm, const Particles<D>& p, double min_cell_size,
+                                 std::size_t top_cells_per_rank) {
   std::array<double, D> lo, hi;
   lo.fill(std::numeric_limits<double>::max());
   hi.fill(std::numeric_limits<double>::lowest());
@@ -67,14 +69,19 @@ Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, doub
   comm.min(lo);
   comm.max(hi);
   const std::uint64_t n = comm.sum(p.size());
-  if (n == 0) throw UserError("no particles to distribute over the ranks");
+  if (n == 0) throw UserError("no particles left on any rank");
   Vec<D> vlo, vhi;
   for (int k = 0; k < D; ++k) {
     vlo[k] = lo[static_cast<std::size_t>(k)];
     vhi[k] = hi[static_cast<std::size_t>(k)];
   }
-  Decomposition<D> d = make_top_grid(make_lattice(vlo, vhi, n, min_cell_size),
-                                     top_cells_per_rank * static_cast<std::size_t>(comm.size()));
+  return make_top_grid(make_lattice(vlo, vhi, n, min_cell_size), top_cells_per_rank * static_cast<std::size_t>(comm.size()));
+}
+
+template <int D>
+Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, double min_cell_size,
+                           std::size_t top_cells_per_rank) {
+  Decomposition<D> d = global_top_grid(comm, p, min_cell_size, top_cells_per_rank);
   std::vector<std::uint64_t> counts(d.top_cells(), 0);
   for (const Vec<D>& x : p.pos) ++counts[d.top_cell_of(x)];
   comm.sum(counts);
@@ -105,31 +112,40 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 }
 
 template <int D>
-void Halo<D>::build(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p,
+void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
                     const std::function<double(std::size_t)>& radius) {
   const auto ranks = static_cast<std::size_t>(comm.size());
+  const auto me = static_cast<std::size_t>(comm.rank());
   owned_ = p.size();
   send_.assign(ranks, {});
-  const double edge = d.lattice.cell_size * d.block;
-  std::vector<int> to;
+  // Which ranks hold particles in each top cell: one bit per rank.
+  const std::size_t words = (ranks + 63) / 64;
+  std::vector<std::uint64_t> occupied(grid.top_cells() * words, 0);
+  for (const Vec<D>& x : p.pos) occupied[grid.top_cell_of(x) * words + me / 64] |= std::uint64_t{1} << (me % 64);
+  comm.bit_or(occupied);
+
+  const double edge = grid.lattice.cell_size * grid.block;
+  std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
     // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
     const double R = radius(j) * (1.0 + 1e-12);
     const int reach = static_cast<int>(std::ceil(R / edge));
-    const std::array<int, D> t = d.top_coord(p.pos[j]);
+    const std::array<int, D> t = grid.top_coord(p.pos[j]);
     to.clear();
-    std::array<int, D> c{};
-    std::array<int, D> lo_c, hi_c;
+    std::array<int, D> c{}, lo_c, hi_c;
     for (int k = 0; k < D; ++k) {
       const auto kk = static_cast<std::size_t>(k);
       lo_c[kk] = std::max(t[kk] - reach, 0);
-      hi_c[kk] = std::min(t[kk] + reach, d.top_dims[kk] - 1);
+      hi_c[kk] = std::min(t[kk] + reach, grid.top_dims[kk] - 1);
       c[kk] = lo_c[kk];
     }
     for (;;) {  // every top cell in the box lo_c..hi_c
-      const int r = d.owner[d.top_index(c)];
-      if (r != comm.rank() && std::find(to.begin(), to.end(), r) == to.end() && d.distance2_to(p.pos[j], c) < R * R)
-        to.push_back(r);
+      const std::uint64_t* bits = &occupied[grid.top_index(c) * words];
+      bool any = false;
+      for (std::size_t w = 0; w < words; ++w) any = any || bits[w] != 0;
+      if (any && grid.distance2_to(p.pos[j], c) < R * R)
+        for (std::size_t r = 0; r < ranks; ++r)
+          if (r != me && (bits[r / 64] >> (r % 64) & 1u) && std::find(to.begin(), to.end(), r) == to.end()) to.push_back(r);
       int k = 0;
       for (; k < D; ++k) {
         const auto kk = static_cast<std::size_t>(k);
@@ -138,7 +154,7 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& d, Particl
       }
       if (k == D) break;
     }
-    for (const int r : to) send_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(j));
+    for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
@@ -168,6 +184,30 @@ void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldName
   }
 }
 
+template <int D>
+void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
+  if (comm_.size() == 1) return;
+  migrate(comm_, decompose(comm_, p, min_cell_size, top_cells_per_rank_), p);
+}
+
+template <int D>
+Lattice<D> DistributedDomain<D>::add_ghosts(Particles<D>& p, double min_cell_size, double radius) {
+  const Decomposition<D> grid = global_top_grid(comm_, p, min_cell_size, top_cells_per_rank_);
+  halo_.build(comm_, grid, p, [radius](std::size_t) { return radius; });
+  return grid.lattice;
+}
+
+template <int D>
+void DistributedDomain<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
+  switch (stage) {
+    case GhostStage::SmoothingLength: halo_.refresh(comm_, p, {"h"}); break;
+    case GhostStage::Density: halo_.refresh(comm_, p, {"rho", "volume"}); break;
+    case GhostStage::Stress: halo_.refresh(comm_, p, {"stress", "correction"}); break;
+  }
+}
+
+template class DistributedDomain<2>;
+template class DistributedDomain<3>;
 template Decomposition<2> decompose(const Communicator&, const Particles<2>&, double, std::size_t);
 template Decomposition<3> decompose(const Communicator&, const Particles<3>&, double, std::size_t);
 template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>&);

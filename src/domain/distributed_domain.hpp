@@ -5,8 +5,10 @@
 //
 // Ghosts are copies of other ranks' particles, appended after the owned ones
 // ([0, owned) owned, [owned, size) ghosts). They are chosen by their owners: particle j goes to rank
-// R when it lies within radius(j) of a top cell of R. Rates computed for ghosts are incomplete and
-// are overwritten by refresh() with the owners' values before any owned particle reads them.
+// R when it lies within radius(j) of a top cell in which R has particles (an occupancy map shared by
+// all ranks), so particles that drifted out of their rank's top cells during a step are still
+// served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
+// values before any owned particle reads them.
 #include <functional>
 #include <initializer_list>
 #include <string_view>
@@ -14,6 +16,7 @@
 
 #include "core/particles.hpp"
 #include "domain/decomposition.hpp"
+#include "domain/particle_domain.hpp"
 #include "parallel/communicator.hpp"
 
 namespace sphdisk {
@@ -34,9 +37,9 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 template <int D>
 class Halo {
  public:
-  // Appends the ghosts: every other rank's particle j within radius(j) of one of this rank's top
-  // cells. p must hold owned particles only.
-  void build(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p,
+  // Appends the ghosts: every other rank's particle j within radius(j) of a top cell of `grid` (its
+  // owners are not used) holding particles of this rank. p must hold owned particles only.
+  void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
              const std::function<double(std::size_t)>& radius);
   // Copies the owners' current values of `fields` into the ghosts (same ghosts as build()).
   void refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const;
@@ -49,6 +52,32 @@ class Halo {
  private:
   std::vector<std::vector<std::uint32_t>> send_;  // per rank: owned particles sent as ghosts
   std::size_t owned_ = 0, ghosts_ = 0;
+};
+
+// The ParticleDomain of a run over MPI ranks (one rank: no ghosts, no messages).
+template <int D>
+class DistributedDomain final : public ParticleDomain<D> {
+ public:
+  explicit DistributedDomain(Communicator comm, std::size_t top_cells_per_rank = 256)
+      : comm_(comm), top_cells_per_rank_(top_cells_per_rank) {}
+
+  // New owners for equal particle counts, and the particles sent to them (between steps).
+  void rebalance(Particles<D>& p, double min_cell_size);
+
+  Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, double radius) override;
+  void refresh_ghosts(Particles<D>& p, GhostStage stage) override;
+  void remove_ghosts(Particles<D>& p) override { halo_.drop(p); }
+  double min(double x) const override { return comm_.min(x); }
+  double max(double x) const override { return comm_.max(x); }
+  bool any(bool x) const override { return comm_.any(x); }
+
+  const Communicator& comm() const { return comm_; }
+  const Halo<D>& halo() const { return halo_; }
+
+ private:
+  Communicator comm_;
+  std::size_t top_cells_per_rank_;
+  Halo<D> halo_;
 };
 
 }  // namespace sphdisk

@@ -63,6 +63,25 @@ void Communicator::sum(std::span<std::uint64_t> x) const {
   check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_UINT64_T, MPI_SUM, comm_of(handle_)),
         "MPI_Allreduce");
 }
+void Communicator::bit_or(std::span<std::uint64_t> x) const {
+  if (size_ == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_UINT64_T, MPI_BOR, comm_of(handle_)),
+        "MPI_Allreduce");
+}
+
+double Communicator::sum_in_rank_order(double x) const {
+  if (size_ == 1) return x;
+  std::vector<double> all(static_cast<std::size_t>(size_));
+  check(MPI_Allgather(&x, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm_of(handle_)), "MPI_Allgather");
+  double s = 0;
+  for (double v : all) s += v;
+  return s;
+}
+
+std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const {
+  return exchange(std::vector<std::vector<std::byte>>(static_cast<std::size_t>(size_), mine));
+}
+
 bool Communicator::any(bool x) const {
   if (size_ == 1) return x;
   int v = x ? 1 : 0;
@@ -132,6 +151,9 @@ void Communicator::min(std::span<double>) const {}
 void Communicator::max(std::span<double>) const {}
 void Communicator::sum(std::span<std::uint64_t>) const {}
 bool Communicator::any(bool x) const { return x; }
+void Communicator::bit_or(std::span<std::uint64_t>) const {}
+double Communicator::sum_in_rank_order(double x) const { return x; }
+std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const { return {mine}; }
 std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
   return send;
 }

@@ -29,6 +29,12 @@ class Communicator {
   void min(std::span<double> x) const;
   void max(std::span<double> x) const;
   void sum(std::span<std::uint64_t> x) const;
+  void bit_or(std::span<std::uint64_t> x) const;
+  // Sum of one value per rank, added in rank order on every rank: the same bits on every rank for a
+  // given rank count, but not across rank counts (for diagnostics, never for particle state).
+  double sum_in_rank_order(double x) const;
+  // Gathers every rank's bytes on every rank, by rank.
+  std::vector<std::vector<std::byte>> all_gather(const std::vector<std::byte>& mine) const;
   // True on every rank when any rank passes true (a collective decision).
   bool any(bool x) const;
 
