@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "app/ring_analysis.hpp"
 #include "app/simulation.hpp"
@@ -12,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/units.hpp"
 #include "io/snapshot.hpp"
+#include "parallel/communicator.hpp"
 
 #ifndef SPHDISK_SOURCE_DIR
 #define SPHDISK_SOURCE_DIR "."
@@ -51,9 +53,19 @@ int cmd_report(const std::string& dir) {
 
 // Prints the one-line error and leaves without running library teardown: after a failed write (full
 // disk) HDF5 1.10 keeps the half-closed file in its tables and crashes in its atexit handler.
-[[noreturn]] static void exit_after_error(int code, const char* kind, const std::string& what) {
-  std::fprintf(stderr, "sphdisk: %s: %s\n", kind, sphdisk::one_line(what).c_str());
+// Under MPI, ranks other than 0 only report errors of their own (every rank meets the same input
+// errors; rank 0 reports those), and a failing rank stops all others, which would otherwise wait
+// for it forever.
+[[noreturn]] static void exit_after_error(int code, const char* kind, const std::string& what, bool quiet = false) {
+  const sphdisk::Communicator world = sphdisk::Communicator::world();
+  if (!quiet && (world.is_root() || code != 2)) {
+    if (world.size() > 1)
+      std::fprintf(stderr, "sphdisk (rank %d): %s: %s\n", world.rank(), kind, sphdisk::one_line(what).c_str());
+    else
+      std::fprintf(stderr, "sphdisk: %s: %s\n", kind, sphdisk::one_line(what).c_str());
+  }
   std::fflush(nullptr);
+  if (world.size() > 1) sphdisk::abort_all_ranks(code);
   std::_Exit(code);
 }
 
@@ -99,6 +111,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // Runs may span MPI ranks (mpirun -np P sphdisk run ...); the other commands are one process.
+  std::optional<sphdisk::MpiSession> mpi;
+  if (*run || *resume) mpi.emplace(argc, argv);
 
   try {
     if (*run) {
@@ -115,6 +130,7 @@ int main(int argc, char** argv) {
       }
       sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet};
       const auto summary = sphdisk::run_simulation(cfg, opts);
+      if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary.output_dir);
       // The accuracy table of the last snapshot (the README's main job ends with it).
       char last[64];
@@ -127,11 +143,14 @@ int main(int argc, char** argv) {
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
       sphdisk::RunOptions opts{run_dir, false, trace_file, quiet};
       const auto summary = sphdisk::resume_simulation(run_dir, opts, overrides);
+      if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary.output_dir);
       return 0;
     }
     if (*analyze) return cmd_analyze(snapshot, json_path, bins);
     if (*report) return cmd_report(run_dir);
+  } catch (const sphdisk::PeerError& e) {
+    exit_after_error(2, "error", e.what(), true);
   } catch (const sphdisk::UserError& e) {
     exit_after_error(2, "error", e.what());
   } catch (const sphdisk::NumericalError& e) {

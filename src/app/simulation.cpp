@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/timers.hpp"
 #include "core/units.hpp"
+#include "domain/distributed_domain.hpp"
 #include "integrate/integrator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
@@ -84,9 +85,9 @@ std::string format_duration(double s) {
   return buf;
 }
 
-// Stops the run on the first non-finite value, naming particle, field and step.
+// The first non-finite value, naming particle, field and step ("" when all are finite).
 template <int D>
-void check_finite(const Particles<D>& p, long long step) {
+std::string find_non_finite(const Particles<D>& p, long long step) {
   const std::size_t bad = par::reduce(
       p.size(), p.size(),
       [&](std::size_t i) {
@@ -95,15 +96,15 @@ void check_finite(const Particles<D>& p, long long step) {
         return ok ? p.size() : i;
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
-  if (bad == p.size()) return;
+  if (bad == p.size()) return "";
   const char* field = "internal energy";
   for (int k = 0; k < D; ++k) {
     if (!std::isfinite(p.acc[bad][k])) field = "acceleration";
     if (!std::isfinite(p.vel[bad][k])) field = "velocity";
     if (!std::isfinite(p.pos[bad][k])) field = "position";
   }
-  throw NumericalError("non-finite " + std::string(field) + " of particle ID " + std::to_string(p.id[bad]) +
-                       " at step " + std::to_string(step));
+  return "non-finite " + std::string(field) + " of particle ID " + std::to_string(p.id[bad]) + " at step " +
+         std::to_string(step);
 }
 
 // Removes particles inside the accretion radius; their mass and L_z go to the central object.
@@ -192,6 +193,24 @@ void truncate_diagnostics(const std::string& dir, long long step) {
   write_text_file(dir, kDiagnosticsName, kept.str());
 }
 
+// Runs `f` on rank 0 only (files are written there); a UserError there stops every rank: rank 0
+// rethrows it, the others throw PeerError (they stop quietly: rank 0 has reported it).
+template <class F>
+void run_on_root(const Communicator& comm, F&& f) {
+  std::string error;
+  if (comm.is_root()) {
+    try {
+      f();
+    } catch (const UserError& e) {
+      error = e.what();
+    }
+  }
+  if (comm.any(!error.empty())) {
+    if (comm.is_root()) throw UserError(error);
+    throw PeerError("rank 0 failed to write");
+  }
+}
+
 // One run from a state (fresh or checkpointed) to the last output time.
 class Runner {
  public:
@@ -212,12 +231,14 @@ class Runner {
     meta_.energy = cfg.evolve_energy;
     meta_.units = setup_.units;
     meta_.parameters = cfg.resolved;
+    if (distributed()) rates_.set_domain(&domain_);
   }
 
   // A fresh run: rates of the initial state, snapshot_000, first diagnostics row.
   void start() {
-    accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
-    if (p_.size() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
+    accrete_all();
+    if (global_count() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
+    rebalance();
     integrator_->start(p_);
     check_finite_or_dump();
     while (static_cast<std::size_t>(s_.next_output) < t_out_.size() && t_out_[static_cast<std::size_t>(s_.next_output)] <= s_.time)
@@ -229,15 +250,48 @@ class Runner {
 
   // A resumed run: the checkpoint holds the rates (acc, du_dt) and the integrator state.
   void restart() {
+    rebalance();
     integrator_->set_state(s_.integrator);
-    truncate_diagnostics(dir_, s_.step);
+    if (root()) truncate_diagnostics(dir_, s_.step);
     open_diagnostics();
   }
 
   RunSummary advance();
 
  private:
+  bool distributed() const { return domain_.comm().size() > 1; }
+  bool root() const { return domain_.comm().is_root(); }
+  std::size_t global_count() const { return domain_.comm().sum(p_.size()); }
+
+  // Between steps: particles go to the ranks owning their cells, in equal numbers.
+  void rebalance() {
+    if (!distributed()) return;
+    ScopedPhase timer(timers_, "communication");
+    domain_.rebalance(p_, s_.smoothing_length);
+  }
+
+  // Removes accreted particles; the tallies are summed over ranks (in rank order).
+  void accrete_all() {
+    double mass = 0, lz = 0;
+    accrete(p_, setup_.phys.accretion_radius, mass, lz);
+    s_.accreted_mass += domain_.comm().sum_in_rank_order(mass);
+    s_.accreted_angular_momentum += domain_.comm().sum_in_rank_order(lz);
+  }
+
+  // All particles on the writing rank (rank 0; snapshots are written in ID order); none elsewhere.
+  const Particles<kDim>& particles_to_write() {
+    if (!distributed()) return p_;
+    gathered_ = gather_to_root(domain_.comm(), p_);
+    return gathered_;
+  }
+
+  template <class F>
+  void on_root(F&& write) {
+    run_on_root(domain_.comm(), write);
+  }
+
   void open_diagnostics() {
+    if (!root()) return;
     const std::string path = (fs::path(dir_) / kDiagnosticsName).string();
     const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
     csv_.open(path, std::ios::app);
@@ -253,49 +307,61 @@ class Runner {
     meta_.accreted_mass = s_.accreted_mass;
     meta_.accreted_angular_momentum = s_.accreted_angular_momentum;
     meta_.step = s_.step;
-    write_snapshot(snapshot_name(dir_, k), p_, meta_);
+    const Particles<kDim>& all = particles_to_write();
+    on_root([&] { write_snapshot(snapshot_name(dir_, k), all, meta_); });
+    gathered_ = Particles<kDim>();
   }
 
   // Stops on NaN/Inf, keeping the evidence in a debug dump; the last good checkpoint is untouched.
   void check_finite_or_dump() {
-    try {
-      check_finite(p_, s_.step);
-    } catch (const NumericalError& e) {
-      const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
-      write_snapshot(dump, p_, meta_);
-      throw NumericalError(std::string(e.what()) + "; state written to " + dump +
-                           ", last good checkpoint kept; reduce the timestep factors or check the set-up");
-    }
+    const std::string bad = find_non_finite(p_, s_.step);
+    if (!domain_.any(!bad.empty())) return;
+    const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
+    const Particles<kDim>& all = particles_to_write();
+    on_root([&] { write_snapshot(dump, all, meta_); });
+    throw NumericalError((bad.empty() ? "non-finite values on another rank at step " + std::to_string(s_.step) : bad) +
+                         "; state written to " + dump +
+                         ", last good checkpoint kept; reduce the timestep factors or check the set-up");
   }
 
   void write_checkpoint_now() {
     ScopedPhase timer(timers_, "io");
     s_.integrator = integrator_->state();
-    csv_.flush();
-    write_checkpoint((fs::path(dir_) / kCheckpointName).string(), p_, s_);
+    if (root()) csv_.flush();
+    const Particles<kDim>& all = particles_to_write();
+    on_root([&] { write_checkpoint((fs::path(dir_) / kCheckpointName).string(), all, s_); });
+    gathered_ = Particles<kDim>();
     last_checkpoint_ = Clock::now();
   }
 
   void diagnostics_row(double dt) {
     ScopedPhase timer(timers_, "diagnostics");
-    const GlobalSums g = global_sums(p_, cfg_.evolve_energy);
-    csv_ << s_.step << ',' << s_.time << ',' << setup_.tau_of_time(s_.time) << ',' << dt << ',' << p_.size() << ','
+    GlobalSums g = global_sums(p_, cfg_.evolve_energy);
+    const std::size_t n = global_count();
+    if (distributed()) {
+      const Communicator& c = domain_.comm();
+      g = GlobalSums{c.sum_in_rank_order(g.mass), c.sum_in_rank_order(g.kinetic_energy),
+                     c.sum_in_rank_order(g.internal_energy), c.sum_in_rank_order(g.angular_momentum)};
+    }
+    if (!root()) return;
+    csv_ << s_.step << ',' << s_.time << ',' << setup_.tau_of_time(s_.time) << ',' << dt << ',' << n << ','
          << g.mass << ',' << s_.accreted_mass << ',' << g.kinetic_energy << ',' << g.internal_energy << ','
          << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
   }
 
   double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
 
-  void progress(double dt, double t_begin, std::size_t updates) {
+  void progress(double dt, double t_begin, std::size_t updates, std::size_t n) {
     const auto now = Clock::now();
-    if (opts_.quiet || cfg_.progress_interval <= 0 ||
+    if (!root() || opts_.quiet || cfg_.progress_interval <= 0 ||
         std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
       return;
     last_progress_ = now;
     const double frac = (s_.time - t_begin) / (t_out_.back() - t_begin);
     std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s\n", s_.step,
-                 setup_.tau_of_time(s_.time), 100 * frac, dt, p_.size(), static_cast<double>(updates) / wall(),
+                 setup_.tau_of_time(s_.time), 100 * frac, dt, n, static_cast<double>(updates) / wall(),
                  format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str());
+    (void)n;
   }
 
   const Config& cfg_;
@@ -305,6 +371,8 @@ class Runner {
   Particles<kDim> p_;
   RunState s_;
   PhaseTimers timers_;
+  DistributedDomain<kDim> domain_{Communicator::world()};
+  Particles<kDim> gathered_;  // rank 0: all particles while a file is written
   RateEvaluator<kDim> rates_;
   std::unique_ptr<Integrator<kDim>> integrator_;
   std::vector<double> t_out_;
@@ -324,21 +392,23 @@ RunSummary Runner::advance() {
   while (static_cast<std::size_t>(s_.next_output) < t_out_.size() &&
          (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
+    if (s_.step > steps_before) rebalance();
     if (s_.step % kReorderInterval == 0) {
       ScopedPhase timer(timers_, "reorder");
       p_.gather(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
     }
     const std::size_t evals_before = rates_.evaluations();
+    const std::size_t n_before = distributed() ? global_count() : p_.size();
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
     const double dt = integrator_->step(p_, dt_cap);
-    updates += p_.size() * (rates_.evaluations() - evals_before);
+    updates += n_before * (rates_.evaluations() - evals_before);
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
     if (s_.step == cfg_.inject_nan_at_step) p_.vel[0][0] = std::numeric_limits<double>::quiet_NaN();
-    accrete(p_, setup_.phys.accretion_radius, s_.accreted_mass, s_.accreted_angular_momentum);
+    accrete_all();
     check_finite_or_dump();
-    if (p_.size() == 0) throw UserError("all particles were accreted before the last output time");
+    if (global_count() == 0) throw UserError("all particles were accreted before the last output time");
     diagnostics_row(dt);
     bool checkpoint = false;
     if (s_.time >= t_out_[next]) {
@@ -353,35 +423,41 @@ RunSummary Runner::advance() {
     if (cfg_.checkpoint_every_seconds > 0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds)
       checkpoint = true;
-    if (g_stop_signal) checkpoint = interrupted = true;
+    if (domain_.any(g_stop_signal != 0)) checkpoint = interrupted = true;
+    checkpoint = domain_.any(checkpoint);  // wall-clock triggers differ between ranks
     if (checkpoint) write_checkpoint_now();
     if (interrupted) break;
-    progress(dt, t_begin, updates);
+    progress(dt, t_begin, updates, n_before);
   }
   std::signal(SIGTERM, old_term);
   std::signal(SIGINT, old_int);
-  csv_.close();
-  if (!csv_) throw UserError("cannot finish writing diagnostics.csv in '" + dir_ + "' (disk full?)");
+  on_root([&] {
+    csv_.close();
+    if (!csv_) throw UserError("cannot finish writing diagnostics.csv in '" + dir_ + "' (disk full?)");
+  });
 
   RunSummary sum;
   sum.steps = s_.step - steps_before;
   sum.evaluations = rates_.evaluations();
-  sum.particles_final = p_.size();
+  sum.particles_final = global_count();
   sum.wall_seconds = wall();
   sum.particle_updates_per_second = static_cast<double>(updates) / sum.wall_seconds;
   sum.output_dir = dir_;
   sum.interrupted = interrupted;
-  write_text_file(dir_, "timers.json", timers_.json());
-  if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file))
-    throw UserError("cannot write trace file '" + opts_.trace_file + "'");
-  if (!opts_.quiet) {
-    std::fprintf(stderr, "phase timers (%d threads):\n%s", par::max_threads(), timers_.table().c_str());
+  on_root([&] {
+    write_text_file(dir_, "timers.json", timers_.json());
+    if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file))
+      throw UserError("cannot write trace file '" + opts_.trace_file + "'");
+  });
+  if (root() && !opts_.quiet) {
+    std::fprintf(stderr, "phase timers (rank 0 of %d, %d threads):\n%s", domain_.comm().size(), par::max_threads(),
+                 timers_.table().c_str());
     std::fprintf(stderr,
                  "%s: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
-                 "(%.3g per thread), %zu rejected steps\n",
+                 "(%.3g per thread over %d rank(s)), %zu rejected steps\n",
                  interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
-                 sum.particle_updates_per_second, sum.particle_updates_per_second / par::max_threads(),
-                 integrator_->rejected_steps());
+                 sum.particle_updates_per_second, sum.particle_updates_per_second / (par::max_threads() * domain_.comm().size()),
+                 domain_.comm().size(), integrator_->rejected_steps());
   }
   return sum;
 }
@@ -425,13 +501,17 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   state.config_toml = cfg.resolved_toml;
 
   // Inputs are valid: only now touch the output directory.
-  prepare_output_dir(dir, opts.overwrite);
-  if (opts.overwrite) {
-    std::error_code ec;
-    fs::remove(fs::path(dir) / kDiagnosticsName, ec);
-    fs::remove(fs::path(dir) / kCheckpointName, ec);
-  }
-  write_text_file(dir, "config.toml", cfg.resolved_toml);
+  const Communicator comm = Communicator::world();
+  run_on_root(comm, [&] {
+    prepare_output_dir(dir, opts.overwrite);
+    if (opts.overwrite) {
+      std::error_code ec;
+      fs::remove(fs::path(dir) / kDiagnosticsName, ec);
+      fs::remove(fs::path(dir) / kCheckpointName, ec);
+    }
+    write_text_file(dir, "config.toml", cfg.resolved_toml);
+  });
+  keep_share(comm, p);  // the decomposition then sends each particle to its owner
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.start();
   return runner.advance();
@@ -445,6 +525,7 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   Particles<kDim> p = read_checkpoint(path, state);
   const Config cfg = parse_config(state.config_toml, path, overrides);
   apply_run_options(cfg, opts);
+  keep_share(Communicator::world(), p);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();

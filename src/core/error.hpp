@@ -17,6 +17,12 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An error another MPI rank has already reported (this rank stops quietly with the same code).
+class PeerError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Messages are one line: control characters (e.g. a newline quoted from a bad input) are escaped.
 inline std::string one_line(const std::string& s) {
   std::string out;

@@ -112,6 +112,36 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 }
 
 template <int D>
+Particles<D> gather_to_root(const Communicator& comm, const Particles<D>& p) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  std::vector<std::uint32_t> all(p.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+  std::vector<std::vector<std::byte>> send(ranks);
+  send[0] = pack(p, all, {});
+  const auto recv = comm.exchange(send);
+  Particles<D> out;
+  if (!comm.is_root()) return out;
+  std::size_t n = 0;
+  for (const auto& buf : recv) n += packed_count(buf);
+  out.resize(n);
+  std::size_t first = 0;
+  for (const auto& buf : recv) {
+    unpack(out, first, buf, {});
+    first += packed_count(buf);
+  }
+  return out;
+}
+
+template <int D>
+void keep_share(const Communicator& comm, Particles<D>& p) {
+  if (comm.size() == 1) return;
+  std::vector<std::uint32_t> mine;
+  for (std::size_t i = static_cast<std::size_t>(comm.rank()); i < p.size(); i += static_cast<std::size_t>(comm.size()))
+    mine.push_back(static_cast<std::uint32_t>(i));
+  p.gather(mine);
+}
+
+template <int D>
 void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
                     const std::function<double(std::size_t)>& radius) {
   const auto ranks = static_cast<std::size_t>(comm.size());
@@ -212,6 +242,10 @@ template Decomposition<2> decompose(const Communicator&, const Particles<2>&, do
 template Decomposition<3> decompose(const Communicator&, const Particles<3>&, double, std::size_t);
 template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>&);
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
+template Particles<2> gather_to_root(const Communicator&, const Particles<2>&);
+template Particles<3> gather_to_root(const Communicator&, const Particles<3>&);
+template void keep_share(const Communicator&, Particles<2>&);
+template void keep_share(const Communicator&, Particles<3>&);
 template class Halo<2>;
 template class Halo<3>;
 

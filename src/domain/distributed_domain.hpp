@@ -34,6 +34,16 @@ Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, doub
 template <int D>
 void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p);
 
+// All particles on rank 0 (in rank order; empty elsewhere), for writing one file. O(N) memory on
+// rank 0 for the time of the write.
+template <int D>
+Particles<D> gather_to_root(const Communicator& comm, const Particles<D>& p);
+
+// Keeps this rank's share of a particle set every rank holds whole (every P-th particle); the
+// decomposition then sends each to its owner.
+template <int D>
+void keep_share(const Communicator& comm, Particles<D>& p);
+
 template <int D>
 class Halo {
  public:

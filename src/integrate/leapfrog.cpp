@@ -15,7 +15,8 @@ class Leapfrog final : public Integrator<D> {
   void start(Particles<D>& p) override { rates_.evaluate(p); }
 
   double step(Particles<D>& p, double dt_cap) override {
-    const double dt = std::min({dt_cap, params_.dt_max, explicit_timestep(p, rates_.physics(), params_.factors)});
+    const double dt =
+        std::min({dt_cap, params_.dt_max, rates_.global_min(explicit_timestep(p, rates_.physics(), params_.factors))});
     const double half = 0.5 * dt;
     const bool energy = rates_.physics().evolve_energy;
     const std::size_t n = p.size();

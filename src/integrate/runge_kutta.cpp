@@ -63,8 +63,9 @@ class EmbeddedRungeKutta final : public Integrator<D> {
 
   double step(Particles<D>& p, double dt_cap) override {
     const PhysicsParams& phys = rates_.physics();
-    const double dt_stable = std::min(stability_timestep(smallest_smoothing_length(p), phys, params_.factors), params_.dt_max);
-    if (dt_next_ <= 0) dt_next_ = explicit_timestep(p, phys, params_.factors);
+    const double dt_stable = std::min(
+        stability_timestep(rates_.global_min(smallest_smoothing_length(p)), phys, params_.factors), params_.dt_max);
+    if (dt_next_ <= 0) dt_next_ = rates_.global_min(explicit_timestep(p, phys, params_.factors));
     save_initial_state(p);
     for (;;) {
       const double dt = std::min({dt_next_, dt_stable, dt_cap});
@@ -145,7 +146,7 @@ class EmbeddedRungeKutta final : public Integrator<D> {
     for (std::size_t l = 0; l < S; ++l) diff[l] = tab_.b_high[l] - tab_.b_low[l];
     const double tol = params_.tolerance;
     const bool energy = rates_.physics().evolve_energy;
-    return par::reduce(
+    return rates_.global_max(par::reduce(
         p.size(), 0.0,
         [&](std::size_t i) {
           Vec<D> ex, ev;
@@ -159,7 +160,7 @@ class EmbeddedRungeKutta final : public Integrator<D> {
           if (energy) e = std::max(e, std::abs(eu) / (tol * std::abs(p.u[i]) + 1e-300));
           return e;
         },
-        [](double a, double b) { return std::max(a, b); });
+        [](double a, double b) { return std::max(a, b); }));
   }
 
   IntegratorParams params_;
