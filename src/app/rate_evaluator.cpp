@@ -44,32 +44,96 @@ RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys,
 
 // Solves h_i while searching each particle's neighbours (widening the search where the solution
 // lies beyond it), then builds the symmetric interaction lists (interaction_lists.hpp).
+//
+// With particles spread over processes, the ghosts must hold every particle within the search
+// radius of an owned particle (need) and every particle whose own support 2 h_j reaches one
+// (reach). Both are known only after the solve, so the halo is chosen from the previous h with a
+// margin and checked afterwards; where it fell short (rare: h grew by more than the margin), the
+// solve is repeated with a wider halo from the same start values, so the result is the one a
+// single process gets.
 template <int D>
 template <class K>
 void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
-  search_radius_.resize(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
-  {
-    ScopedPhase t(timers_, "cell_build");
-    build_cell_grid(p.pos, p.id, cell_size_for(p.h), grid_);
-  }
-  double extent = 0;  // a search beyond twice the grid's diagonal cannot find more particles
-  for (int k = 0; k < D; ++k) extent += std::pow(grid_.cell_size * grid_.dims[static_cast<std::size_t>(k)], 2);
-  const double widest = 4.0 * std::sqrt(extent);
-  const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, double searched) {
-    const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
-    if (r.beyond_candidates && searched < widest) {
-      p.h[i] = r.h;  // the start value of the wider search
-      return 2.0 * kSkin * r.h;
+  constexpr double kHaloMargin = 1.25;
+  const std::size_t owned = p.size();
+  double cell_size;
+  if (domain_) {
+    cell_size = kSkin * domain_->kth_smallest(p.h, domain_->sum(owned) / 2);
+    need_.resize(owned);
+    reach_.resize(owned);
+    for (std::size_t i = 0; i < owned; ++i) {
+      need_[i] = 2.0 * kSkin * p.h[i] * kHaloMargin;
+      reach_[i] = 2.0 * p.h[i] * kHaloMargin;
     }
-    p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
-    return 2.0 * p.h[i];
-  };
-  {
-    ScopedPhase t(timers_, "neighbour_search");
-    build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_);
+    h_start_ = p.h;
+  } else {
+    cell_size = cell_size_for(p.h);
   }
+  for (;;) {
+    Lattice<D> lattice;
+    if (domain_) {
+      ScopedPhase t(timers_, "communication");
+      lattice = domain_->add_ghosts(p, cell_size, [&](std::size_t i) { return need_[i]; },
+                                    [&](std::size_t i) { return reach_[i]; });
+    } else {
+      Vec<D> lo, hi;
+      bounding_box(p.pos, lo, hi);
+      lattice = make_lattice(lo, hi, p.size(), cell_size);
+    }
+    {
+      ScopedPhase t(timers_, "cell_build");
+      build_cell_grid(lattice, p.pos, p.id, grid_);
+    }
+    double extent = 0;  // a search beyond twice the lattice's diagonal cannot find more particles
+    for (int k = 0; k < D; ++k) extent += std::pow(lattice.cell_size * lattice.dims[static_cast<std::size_t>(k)], 2);
+    const double widest = 4.0 * std::sqrt(extent);
+    search_radius_.resize(owned);
+    for (std::size_t i = 0; i < owned; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
+    halo_short_.assign(domain_ ? owned : 0, 0.0);
+    const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, double searched) {
+      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
+      if (r.beyond_candidates && searched < widest) {
+        p.h[i] = r.h;  // the start value of the wider search
+        const double wider = 2.0 * kSkin * r.h;
+        if (domain_ && wider > need_[i]) {  // beyond the ghosts: stop here, search again with more
+          halo_short_[i] = wider;
+          return searched;
+        }
+        return wider;
+      }
+      p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
+      return 2.0 * p.h[i];
+    };
+    {
+      ScopedPhase t(timers_, "neighbour_search");
+      build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, owned);
+    }
+    if (!domain_) break;
+    bool again = false;
+    for (std::size_t i = 0; i < owned; ++i) {
+      if (halo_short_[i] > 0) {
+        need_[i] = halo_short_[i] * kHaloMargin;
+        again = true;  // p.h[i] keeps the start value of the wider search
+      } else if (2.0 * p.h[i] > reach_[i]) {
+        reach_[i] = 2.0 * p.h[i] * kHaloMargin;
+        again = true;
+      }
+    }
+    if (!domain_->any(again)) break;
+    ++halo_widenings_;
+    domain_->remove_ghosts(p);
+    for (std::size_t i = 0; i < owned; ++i)
+      if (halo_short_[i] == 0) p.h[i] = h_start_[i];
+  }
+  if (domain_) refresh_ghosts(p, GhostStage::SmoothingLength);
   ScopedPhase t(timers_, "neighbour_search");
+  if (domain_) {
+    // Ghosts' gather lists with their owners' h: the pairs that only a ghost's own support covers
+    // come from them (interaction_lists.hpp).
+    search_radius_.resize(p.size());
+    for (std::size_t i = owned; i < p.size(); ++i) search_radius_[i] = 2.0 * p.h[i];
+    append_neighbour_lists(grid_, p.pos, owned, search_radius_, candidates_);
+  }
   build_interaction_lists(candidates_, p.pos, p.h, p.id, lists_);
 }
 
@@ -78,7 +142,6 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
-      if (domain_) throw UserError("adaptive smoothing lengths are not yet supported on more than one MPI rank; set sph.smoothing = \"constant\" or run on one rank");
       adaptive_lists<K>(p);
       ScopedPhase t(timers_, "density");
       compute_density(p, lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
@@ -89,7 +152,8 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
       Lattice<D> lattice;
       {
         ScopedPhase t(timers_, "communication");
-        lattice = domain_->add_ghosts(p, 0.5 * support, support);
+        const auto radius = [support](std::size_t) { return support; };
+        lattice = domain_->add_ghosts(p, 0.5 * support, radius, radius);
       }
       std::fill(p.h.begin(), p.h.end(), h_);  // what the timestep criteria and the snapshots read
       ScopedPhase t(timers_, "cell_build");

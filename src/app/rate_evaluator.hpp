@@ -54,6 +54,7 @@ class RateEvaluator {
   const PairFactors& pair_factors() const { return factors_; }
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
+  std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
 
  private:
   template <class K>
@@ -71,12 +72,14 @@ class RateEvaluator {
   NeighbourLists lists_;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;
+  std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
   PairFactors factors_;    // kernel-gradient factor of every list entry (pair_factors.hpp)
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;
+  std::size_t halo_widenings_ = 0;
 };
 
 }  // namespace sphdisk

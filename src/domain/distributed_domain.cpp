@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -141,48 +142,100 @@ void keep_share(const Communicator& comm, Particles<D>& p) {
   p.gather(mine);
 }
 
+// Top cells are visited as offsets in a box of half-width `reach` cells around a centre cell.
+template <int D, class F>
+void for_each_top_cell_near(const Decomposition<D>& grid, const std::array<int, D>& centre, int reach, F&& f) {
+  std::array<int, D> c{}, lo_c, hi_c;
+  for (int k = 0; k < D; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    lo_c[kk] = std::max(centre[kk] - reach, 0);
+    hi_c[kk] = std::min(centre[kk] + reach, grid.top_dims[kk] - 1);
+    c[kk] = lo_c[kk];
+  }
+  for (;;) {
+    f(c);
+    int k = 0;
+    for (; k < D; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      if (++c[kk] <= hi_c[kk]) break;
+      c[kk] = lo_c[kk];
+    }
+    if (k == D) return;
+  }
+}
+
+template <int D>
+std::array<int, D> coord_of_index(const Decomposition<D>& grid, std::size_t index) {
+  std::array<int, D> t{};
+  for (int k = 0; k < D; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    t[kk] = static_cast<int>(index % static_cast<std::size_t>(grid.top_dims[kk]));
+    index /= static_cast<std::size_t>(grid.top_dims[kk]);
+  }
+  return t;
+}
+
 template <int D>
 void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
-                    const std::function<double(std::size_t)>& radius) {
+                    const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
   const auto ranks = static_cast<std::size_t>(comm.size());
   const auto me = static_cast<std::size_t>(comm.rank());
   owned_ = p.size();
   send_.assign(ranks, {});
-  // Which ranks hold particles in each top cell: one bit per rank.
+  const std::size_t cells = grid.top_cells();
+  // Shared maps: which ranks hold particles in each top cell (one bit per rank), and the largest
+  // `need` radius of the particles there.
   const std::size_t words = (ranks + 63) / 64;
-  std::vector<std::uint64_t> occupied(grid.top_cells() * words, 0);
-  for (const Vec<D>& x : p.pos) occupied[grid.top_cell_of(x) * words + me / 64] |= std::uint64_t{1} << (me % 64);
+  std::vector<std::uint64_t> occupied(cells * words, 0);
+  std::vector<double> need_max(cells, 0.0), reach_max(cells, 0.0);
+  std::vector<std::size_t> cell_of(owned_);
+  for (std::size_t i = 0; i < owned_; ++i) {
+    const std::size_t c = cell_of[i] = grid.top_cell_of(p.pos[i]);
+    occupied[c * words + me / 64] |= std::uint64_t{1} << (me % 64);
+    need_max[c] = std::max(need_max[c], need(i));
+    reach_max[c] = std::max(reach_max[c], reach(i));
+  }
   comm.bit_or(occupied);
-
+  comm.max(need_max);
+  double widest_need = 0;
+  for (double r : need_max) widest_need = std::max(widest_need, r);
   const double edge = grid.lattice.cell_size * grid.block;
+  auto other_ranks_in = [&](std::size_t c) {
+    for (std::size_t w = 0; w < words; ++w) {
+      const std::uint64_t mask = w == me / 64 ? ~(std::uint64_t{1} << (me % 64)) : ~std::uint64_t{0};
+      if (occupied[c * words + w] & mask) return true;
+    }
+    return false;
+  };
+  // Per top cell holding particles of this rank: the cells of other ranks its particles may have to
+  // go to (box-to-box distance below the larger of the two radii), found once per cell.
+  std::vector<std::vector<std::uint32_t>> targets(cells);
+  for (std::size_t s = 0; s < cells; ++s) {
+    if (reach_max[s] == 0 && !(occupied[s * words + me / 64] >> (me % 64) & 1u)) continue;
+    const std::array<int, D> ts = coord_of_index<D>(grid, s);
+    const double R = std::max(widest_need, reach_max[s]) * (1.0 + 1e-12);
+    for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
+      const std::size_t c = grid.top_index(tc);
+      if (!other_ranks_in(c)) return;
+      double gap2 = 0;
+      for (int k = 0; k < D; ++k) {
+        const double gap = std::max(0, std::abs(tc[static_cast<std::size_t>(k)] - ts[static_cast<std::size_t>(k)]) - 1) * edge;
+        gap2 += gap * gap;
+      }
+      const double r = std::max(need_max[c], reach_max[s]) * (1.0 + 1e-12);
+      if (gap2 < r * r) targets[s].push_back(static_cast<std::uint32_t>(c));
+    });
+  }
   std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
-    // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
-    const double R = radius(j) * (1.0 + 1e-12);
-    const int reach = static_cast<int>(std::ceil(R / edge));
-    const std::array<int, D> t = grid.top_coord(p.pos[j]);
     to.clear();
-    std::array<int, D> c{}, lo_c, hi_c;
-    for (int k = 0; k < D; ++k) {
-      const auto kk = static_cast<std::size_t>(k);
-      lo_c[kk] = std::max(t[kk] - reach, 0);
-      hi_c[kk] = std::min(t[kk] + reach, grid.top_dims[kk] - 1);
-      c[kk] = lo_c[kk];
-    }
-    for (;;) {  // every top cell in the box lo_c..hi_c
-      const std::uint64_t* bits = &occupied[grid.top_index(c) * words];
-      bool any = false;
-      for (std::size_t w = 0; w < words; ++w) any = any || bits[w] != 0;
-      if (any && grid.distance2_to(p.pos[j], c) < R * R)
-        for (std::size_t r = 0; r < ranks; ++r)
-          if (r != me && (bits[r / 64] >> (r % 64) & 1u) && std::find(to.begin(), to.end(), r) == to.end()) to.push_back(r);
-      int k = 0;
-      for (; k < D; ++k) {
-        const auto kk = static_cast<std::size_t>(k);
-        if (++c[kk] <= hi_c[kk]) break;
-        c[kk] = lo_c[kk];
-      }
-      if (k == D) break;
+    for (const std::uint32_t c : targets[cell_of[j]]) {
+      // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
+      const double R = std::max(need_max[c], reach(j)) * (1.0 + 1e-12);
+      if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, c)) >= R * R) continue;
+      for (std::size_t r = 0; r < ranks; ++r)
+        if (r != me && (occupied[c * words + r / 64] >> (r % 64) & 1u) && std::find(to.begin(), to.end(), r) == to.end())
+          to.push_back(r);
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }
@@ -221,10 +274,34 @@ void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
 }
 
 template <int D>
-Lattice<D> DistributedDomain<D>::add_ghosts(Particles<D>& p, double min_cell_size, double radius) {
+Lattice<D> DistributedDomain<D>::add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need,
+                                            const RadiusOf& reach) {
   const Decomposition<D> grid = global_top_grid(comm_, p, min_cell_size, top_cells_per_rank_);
-  halo_.build(comm_, grid, p, [radius](std::size_t) { return radius; });
+  halo_.build(comm_, grid, p, need, reach);
   return grid.lattice;
+}
+
+template <int D>
+double DistributedDomain<D>::kth_smallest(const std::vector<double>& values, std::uint64_t k) const {
+  // Radix selection on the bit patterns (non-negative doubles order as their bits), one byte per
+  // round from the top: an exact answer from 8 small histograms, whatever the rank count.
+  std::uint64_t prefix = 0, rank_in = k;
+  for (int shift = 56; shift >= 0; shift -= 8) {
+    const std::uint64_t high_mask = shift == 56 ? 0 : ~std::uint64_t{0} << (shift + 8);
+    std::vector<std::uint64_t> hist(256, 0);
+    for (const double v : values) {
+      std::uint64_t b;
+      std::memcpy(&b, &v, sizeof b);
+      if ((b & high_mask) == prefix) ++hist[(b >> shift) & 0xffu];
+    }
+    comm_.sum(hist);
+    std::size_t bin = 0;
+    while (bin < 255 && rank_in >= hist[bin]) rank_in -= hist[bin++];
+    prefix |= static_cast<std::uint64_t>(bin) << shift;
+  }
+  double out;
+  std::memcpy(&out, &prefix, sizeof out);
+  return out;
 }
 
 template <int D>

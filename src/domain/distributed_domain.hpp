@@ -47,10 +47,11 @@ void keep_share(const Communicator& comm, Particles<D>& p);
 template <int D>
 class Halo {
  public:
-  // Appends the ghosts: every other rank's particle j within radius(j) of a top cell of `grid` (its
-  // owners are not used) holding particles of this rank. p must hold owned particles only.
+  // Appends the ghosts: every other rank's particle j that lies within need(i) of a particle i of
+  // this rank, or within reach(j) of one (radii of owned particles; found through the top cells of
+  // `grid`, so some spare ghosts come along). p must hold owned particles only.
   void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
-             const std::function<double(std::size_t)>& radius);
+             const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach);
   // Copies the owners' current values of `fields` into the ghosts (same ghosts as build()).
   void refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const;
   // Removes the ghosts.
@@ -74,11 +75,13 @@ class DistributedDomain final : public ParticleDomain<D> {
   // New owners for equal particle counts, and the particles sent to them (between steps).
   void rebalance(Particles<D>& p, double min_cell_size);
 
-  Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, double radius) override;
+  Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need, const RadiusOf& reach) override;
+  double kth_smallest(const std::vector<double>& values, std::uint64_t k) const override;
   void refresh_ghosts(Particles<D>& p, GhostStage stage) override;
   void remove_ghosts(Particles<D>& p) override { halo_.drop(p); }
   double min(double x) const override { return comm_.min(x); }
   double max(double x) const override { return comm_.max(x); }
+  std::uint64_t sum(std::uint64_t x) const override { return comm_.sum(x); }
   bool any(bool x) const override { return comm_.any(x); }
 
   const Communicator& comm() const { return comm_; }

@@ -2,6 +2,10 @@
 // Where a process's particles live: the interface through which the rate evaluator and the
 // integrators reach other processes without knowing how (MPI lives behind it, in
 // distributed_domain.hpp). A single process needs no domain at all (RateEvaluator's default).
+#include <cstdint>
+#include <functional>
+#include <vector>
+
 #include "core/particles.hpp"
 #include "neighbours/cell_grid.hpp"
 
@@ -15,14 +19,19 @@ enum class GhostStage {
   Stress,           // stress, correction
 };
 
+// A radius per particle (by index).
+using RadiusOf = std::function<double(std::size_t)>;
+
 template <int D>
 class ParticleDomain {
  public:
   virtual ~ParticleDomain() = default;
-  // Appends ghosts: every other process's particle within `radius` of one of p's particles or whose
-  // own 2 h reaches one. Returns the lattice of cells (shared by all processes, as a single process
-  // would build it over all particles with cells >= min_cell_size).
-  virtual Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, double radius) = 0;
+  // Appends ghosts: every other process's particle j within need(i) of one of p's particles i, or
+  // within its own reach(j) of one (need: the neighbour-search radius; reach: the particle's own
+  // support 2 h_j, for pairs that only j's kernel covers). Radii are of owned particles. Returns
+  // the lattice of cells (shared by all processes: as a single process would build it over all
+  // particles with cells >= min_cell_size).
+  virtual Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need, const RadiusOf& reach) = 0;
   // Copies the owners' values of the stage's fields into the ghosts.
   virtual void refresh_ghosts(Particles<D>& p, GhostStage stage) = 0;
   // Removes the ghosts (p holds its owned particles again).
@@ -30,6 +39,9 @@ class ParticleDomain {
   // Smallest / largest value over all processes (exact).
   virtual double min(double x) const = 0;
   virtual double max(double x) const = 0;
+  virtual std::uint64_t sum(std::uint64_t x) const = 0;
+  // The k-th smallest (from 0) of all processes' non-negative values, exactly.
+  virtual double kth_smallest(const std::vector<double>& values, std::uint64_t k) const = 0;
   // True on all processes when true on any.
   virtual bool any(bool x) const = 0;
 };

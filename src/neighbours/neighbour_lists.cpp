@@ -48,12 +48,13 @@ struct KeepAll {
   double operator()(std::size_t, std::span<const std::uint32_t>, double radius) const { return radius; }
 };
 
+// Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
 template <int D, class Radius, class Settle>
-void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, Radius&& radius_of, Settle&& settle,
-                 NeighbourLists& nl) {
-  const std::size_t n = pos.size();
+void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
+                 Radius&& radius_of, Settle&& settle, NeighbourLists& nl) {
+  const std::size_t n = last - first;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   auto& block_index = nl.block_index;
   auto& block_count = nl.block_count;
@@ -66,7 +67,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, Radius
     std::vector<std::uint32_t> idx, cnt;
     idx.swap(block_index[b]);
     cnt.swap(block_count[b]);
-    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    const std::size_t i0 = first + b * kBlock, i1 = std::min(last, i0 + kBlock);
     cnt.resize(i1 - i0);
     idx.clear();
     for (std::size_t i = i0; i < i1; ++i) {
@@ -128,29 +129,44 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, Radius
 
 template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl) {
-  build_lists(grid, pos, [radius](std::size_t) { return radius; }, KeepAll{}, nl);
+  build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl);
 }
 
 template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& radius,
                            NeighbourLists& nl) {
-  build_lists(grid, pos, [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, nl);
+  build_lists(grid, pos, 0, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, nl);
 }
 
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& nl) {
-  build_lists(grid, pos, [&first_radius](std::size_t i) { return first_radius[i]; }, settle, nl);
+                                   NeighbourLists& nl, std::size_t count) {
+  build_lists(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; },
+              settle, nl);
+}
+
+template <int D>
+void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
+                            const std::vector<double>& radius, NeighbourLists& nl) {
+  NeighbourLists more;
+  build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more);
+  const std::size_t base = nl.index.size();
+  nl.index.insert(nl.index.end(), more.index.begin(), more.index.end());
+  for (std::size_t k = 1; k < more.offsets.size(); ++k) nl.offsets.push_back(base + more.offsets[k]);
 }
 
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&);
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&);
 template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&);
+                                            const SettleRadius&, NeighbourLists&, std::size_t);
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&);
+                                            const SettleRadius&, NeighbourLists&, std::size_t);
+template void append_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, std::size_t,
+                                     const std::vector<double>&, NeighbourLists&);
+template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, std::size_t,
+                                     const std::vector<double>&, NeighbourLists&);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&);
 
 }  // namespace sphdisk

@@ -4,6 +4,7 @@
 // in cell order and by ID inside a cell (see cell_grid.hpp): a fixed order, so pair sums give the
 // same bits for any thread count.
 #include <cstdint>
+#include <cstddef>
 #include <functional>
 #include <span>
 #include <vector>
@@ -46,10 +47,17 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 // (physics/smoothing_length.hpp). settle runs in parallel, once per particle and search.
 using SettleRadius = std::function<double(std::size_t, std::span<const std::uint32_t>, double)>;
 
+// Lists are made for the first `count` particles (the rest, e.g. ghosts, are only candidates).
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& out);
+                                   NeighbourLists& out, std::size_t count = SIZE_MAX);
+
+// Extends lists made for particles [0, first) with gather lists (|x_i - x_j| < radius[i]) of the
+// particles [first, pos.size()).
+template <int D>
+void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
+                            const std::vector<double>& radius, NeighbourLists& out);
 
 template <int D>
 NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius) {

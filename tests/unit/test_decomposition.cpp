@@ -48,7 +48,8 @@ TEST(Decomposition, OneRankMigrationAndHaloChangeNothing) {
   const Decomposition<2> d = decompose(comm, p, 0.02);
   migrate(comm, d, p);
   Halo<2> halo;
-  halo.build(comm, d, p, [](std::size_t) { return 0.04; });
+  const auto radius = [](std::size_t) { return 0.04; };
+  halo.build(comm, d, p, radius, radius);
   EXPECT_EQ(halo.ghosts(), 0u);
   EXPECT_EQ(p.id, before.id);
   EXPECT_EQ(p.pos, before.pos);

@@ -1,28 +1,36 @@
 #!/usr/bin/env bash
 # Same input, same bits over MPI: a short ring run on 2 and 3 ranks, and on 2 ranks x 2 threads,
-# must write byte-identical snapshot files to one process (particles in ID order, no timestamps).
+# must write byte-identical snapshot files to one process (particles in ID order, no timestamps),
+# with adaptive smoothing lengths (the default) and with one constant h.
 # Usage: rank_identity.sh SPHDISK MPIEXEC
 set -euo pipefail
 sphdisk=$1
 mpiexec=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-args=(run -q --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0
-      --set 'sph.smoothing="constant"' --set physics.accretion_radius=0.85 "$(dirname "$0")/small_ring.toml")
-OMP_NUM_THREADS=1 "$sphdisk" "${args[@]}" --output "$work/serial" > /dev/null
-for run in "2 1" "3 1" "2 2"; do
-  set -- $run
-  "$mpiexec" -np "$1" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS="$2" \
-    "$sphdisk" "${args[@]}" --output "$work/r$1t$2" > /dev/null
-done
 fail=0
-for run in r2t1 r3t1 r2t2; do
-  for f in snapshot_000.hdf5 snapshot_001.hdf5 snapshot_002.hdf5; do
-    if cmp -s "$work/serial/$f" "$work/$run/$f"; then echo "identical: $f, one process vs $run"; else echo "DIFFERENT: $f, one process vs $run"; fail=1; fi
+for smoothing in adaptive constant; do
+  args=(run -q --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0
+        --set "sph.smoothing=\"$smoothing\"" --set physics.accretion_radius=0.85 "$(dirname "$0")/small_ring.toml")
+  OMP_NUM_THREADS=1 "$sphdisk" "${args[@]}" --output "$work/$smoothing/serial" > /dev/null
+  runs="2 1,3 1,2 2"
+  [ $smoothing = constant ] && runs="3 1"
+  IFS=, read -ra list <<< "$runs"
+  for run in "${list[@]}"; do
+    set -- $run
+    "$mpiexec" -np "$1" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS="$2" \
+      "$sphdisk" "${args[@]}" --output "$work/$smoothing/r$1t$2" > /dev/null
+    for f in snapshot_000.hdf5 snapshot_001.hdf5 snapshot_002.hdf5; do
+      if cmp -s "$work/$smoothing/serial/$f" "$work/$smoothing/r$1t$2/$f"; then
+        echo "identical ($smoothing h): $f, one process vs $1 ranks x $2 threads"
+      else
+        echo "DIFFERENT ($smoothing h): $f, one process vs $1 ranks x $2 threads"; fail=1
+      fi
+    done
   done
+  # The run must have accreted particles (the accretion tally crosses ranks).
+  accreted=$(tail -1 "$work/$smoothing/r3t1/diagnostics.csv" | cut -d, -f7)
+  [ "$accreted" != "0" ] || { echo "no particle was accreted: the test does not exercise accretion"; fail=1; }
 done
-# The run must have accreted particles (the accretion tally crosses ranks) and kept the rest.
-accreted=$(tail -1 "$work/r3t1/diagnostics.csv" | cut -d, -f7)
-[ "$accreted" != "0" ] || { echo "no particle was accreted: the test does not exercise accretion"; fail=1; }
 [ $fail -eq 0 ] && echo "rank identity: passed" || echo "rank identity: FAILED"
 exit $fail
