@@ -476,16 +476,18 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   const Setup setup = make_setup(cfg);
   check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, cfg.smoothing == "adaptive");
 
+  const Communicator comm = Communicator::world();
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
+    // Every rank reads the whole file (O(N) for a moment), then keeps its share below.
     SnapshotMeta meta;
     p = read_snapshot<kDim>(cfg.initial_conditions, &setup.units, meta);
     state.time = meta.time;
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
   } else {
-    p = make_ring(setup.ring);
+    p = make_ring(setup.ring, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
     state.time = setup.time_of_tau(cfg.tau_start);
   }
   if (setup.time_of_tau(cfg.output_tau.back()) <= state.time)
@@ -501,7 +503,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   state.config_toml = cfg.resolved_toml;
 
   // Inputs are valid: only now touch the output directory.
-  const Communicator comm = Communicator::world();
   run_on_root(comm, [&] {
     prepare_output_dir(dir, opts.overwrite);
     if (opts.overwrite) {
@@ -511,7 +512,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     }
     write_text_file(dir, "config.toml", cfg.resolved_toml);
   });
-  keep_share(comm, p);  // the decomposition then sends each particle to its owner
+  if (!cfg.initial_conditions.empty()) keep_share(comm, p);  // the decomposition sends each to its owner
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.start();
   return runner.advance();

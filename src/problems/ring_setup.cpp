@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "core/error.hpp"
@@ -29,7 +30,9 @@ double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0
 
 }  // namespace
 
-Particles<2> make_ring(const RingSetup& s) {
+Particles<2> make_ring(const RingSetup& s) { return make_ring(s, 0, 1); }
+
+Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares) {
   if (s.particles == 0) throw UserError("problem.particles must be > 0");
   double r_lo, r_hi;
   radial_range(s, r_lo, r_hi);
@@ -53,11 +56,17 @@ Particles<2> make_ring(const RingSetup& s) {
   };
 
   const std::size_t n = s.particles;
+  if (shares == 0 || share >= shares) throw std::invalid_argument("make_ring: share out of range");
   Particles<2> p;
-  p.resize(n);
+  p.resize(n > share ? (n - share + shares - 1) / shares : 0);
   std::mt19937_64 gen(s.seed);
   const double m = s.solution.disc_mass / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
+    if (i % shares != share) {  // another share's particle: draw its two numbers, keep nothing
+      gen.discard(2);
+      continue;
+    }
+    const std::size_t k = i / shares;
     const double u = uniform01(gen);
     const double q = s.stratified ? (static_cast<double>(i) + u) / static_cast<double>(n) : u;
     const double ri = inverse_cdf(q);
@@ -67,10 +76,10 @@ Particles<2> make_ring(const RingSetup& s) {
     const double c = std::cos(phi), sn = std::sin(phi);
     const double v_phi = 1.0 / std::sqrt(ri);  // Kepler, G M = 1
     const double v_r = s.solution.radial_velocity(ri, s.tau_start);
-    p.id[i] = i + 1;  // GADGET convention: IDs start at 1
-    p.mass[i] = m;
-    p.pos[i] = Vec<2>{{ri * c, ri * sn}};
-    p.vel[i] = Vec<2>{{v_r * c - v_phi * sn, v_r * sn + v_phi * c}};
+    p.id[k] = i + 1;  // GADGET convention: IDs start at 1
+    p.mass[k] = m;
+    p.pos[k] = Vec<2>{{ri * c, ri * sn}};
+    p.vel[k] = Vec<2>{{v_r * c - v_phi * sn, v_r * sn + v_phi * c}};
   }
   return p;
 }

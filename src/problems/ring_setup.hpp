@@ -23,6 +23,9 @@ struct RingSetup {
 
 // The particle set at tau_start (smoothing lengths left at zero).
 Particles<2> make_ring(const RingSetup& s);
+// Share `share` of `shares` of the same set: particles share, share + shares, ... (memory O(N/shares);
+// each process of a distributed run makes its own).
+Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares);
 
 // Smoothing length giving `neighbours` mean neighbours (excluding self) at tau_start:
 //   <N_nb> = N pi (2h)^2 integral (Sigma/m)^2 2 pi r dr,
