@@ -1,5 +1,6 @@
 #include "app/simulation.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -349,6 +350,24 @@ class Runner {
          << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
   }
 
+  // Per rank: owned particles, ghosts, peak memory and phase timers (load imbalance and
+  // communication share per phase; bench/mpi_scaling.sh reads it). Collective.
+  std::string ranks_json() const {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    std::ostringstream os;
+    os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
+       << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
+       << ", \"timers\": " << timers_.json().substr(0, timers_.json().size() - 1) << "}";
+    const std::string mine = os.str();
+    const auto all = domain_.comm().all_gather(std::vector<std::byte>(reinterpret_cast<const std::byte*>(mine.data()),
+                                                                      reinterpret_cast<const std::byte*>(mine.data()) + mine.size()));
+    std::string out = "[\n";
+    for (std::size_t r = 0; r < all.size(); ++r)
+      out += "  " + std::string(reinterpret_cast<const char*>(all[r].data()), all[r].size()) + (r + 1 < all.size() ? ",\n" : "\n");
+    return out + "]\n";
+  }
+
   double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
 
   void progress(double dt, double t_begin, std::size_t updates, std::size_t n) {
@@ -444,8 +463,10 @@ RunSummary Runner::advance() {
   sum.particle_updates_per_second = static_cast<double>(updates) / sum.wall_seconds;
   sum.output_dir = dir_;
   sum.interrupted = interrupted;
+  const std::string per_rank = ranks_json();
   on_root([&] {
     write_text_file(dir_, "timers.json", timers_.json());
+    write_text_file(dir_, "ranks.json", per_rank);
     if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file))
       throw UserError("cannot write trace file '" + opts_.trace_file + "'");
   });
