@@ -22,6 +22,7 @@
 #include "integrate/integrator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/distributed_snapshot.hpp"
 #include "io/snapshot.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -279,7 +280,8 @@ class Runner {
     s_.accreted_angular_momentum += domain_.comm().sum_in_rank_order(lz);
   }
 
-  // All particles on the writing rank (rank 0; snapshots are written in ID order); none elsewhere.
+  // All particles on the writing rank (rank 0), for checkpoints; none elsewhere. (Snapshots are
+  // written without gathering: io/distributed_snapshot.hpp.)
   const Particles<kDim>& particles_to_write() {
     if (!distributed()) return p_;
     gathered_ = gather_to_root(domain_.comm(), p_);
@@ -308,9 +310,7 @@ class Runner {
     meta_.accreted_mass = s_.accreted_mass;
     meta_.accreted_angular_momentum = s_.accreted_angular_momentum;
     meta_.step = s_.step;
-    const Particles<kDim>& all = particles_to_write();
-    on_root([&] { write_snapshot(snapshot_name(dir_, k), all, meta_); });
-    gathered_ = Particles<kDim>();
+    write_snapshot(domain_.comm(), snapshot_name(dir_, k), p_, meta_);
   }
 
   // Stops on NaN/Inf, keeping the evidence in a debug dump; the last good checkpoint is untouched.
@@ -318,8 +318,7 @@ class Runner {
     const std::string bad = find_non_finite(p_, s_.step);
     if (!domain_.any(!bad.empty())) return;
     const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
-    const Particles<kDim>& all = particles_to_write();
-    on_root([&] { write_snapshot(dump, all, meta_); });
+    write_snapshot(domain_.comm(), dump, p_, meta_);
     throw NumericalError((bad.empty() ? "non-finite values on another rank at step " + std::to_string(s_.step) : bad) +
                          "; state written to " + dump +
                          ", last good checkpoint kept; reduce the timestep factors or check the set-up");

@@ -52,6 +52,19 @@ void unpack(Particles<D>& p, std::size_t first, const std::vector<std::byte>& bu
   });
 }
 
+// Appends every buffer's particles to p.
+template <int D>
+void unpack_all(Particles<D>& p, const std::vector<std::vector<std::byte>>& bufs) {
+  std::size_t n = p.size();
+  for (const auto& buf : bufs) n += packed_count(buf);
+  std::size_t first = p.size();
+  p.resize(n);
+  for (const auto& buf : bufs) {
+    unpack(p, first, buf, {});
+    first += packed_count(buf);
+  }
+}
+
 }  // namespace
 
 // The lattice over every rank's particles, exactly as one process would build it over all of them
@@ -104,12 +117,7 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
     if (!leaving[r].empty()) send[r] = pack(p, leaving[r], {});
   const auto recv = comm.exchange(send);
   p.gather(staying);
-  for (const auto& buf : recv) {
-    if (buf.empty()) continue;
-    const std::size_t first = p.size();
-    p.resize(first + packed_count(buf));
-    unpack(p, first, buf, {});
-  }
+  unpack_all(p, recv);
 }
 
 template <int D>
@@ -121,15 +129,42 @@ Particles<D> gather_to_root(const Communicator& comm, const Particles<D>& p) {
   send[0] = pack(p, all, {});
   const auto recv = comm.exchange(send);
   Particles<D> out;
-  if (!comm.is_root()) return out;
-  std::size_t n = 0;
-  for (const auto& buf : recv) n += packed_count(buf);
-  out.resize(n);
-  std::size_t first = 0;
-  for (const auto& buf : recv) {
-    unpack(out, first, buf, {});
-    first += packed_count(buf);
+  if (comm.is_root()) unpack_all(out, recv);
+  return out;
+}
+
+template <int D>
+Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  std::uint64_t max_id = 0;
+  for (const std::uint64_t id : p.id) max_id = std::max(max_id, id);
+  max_id = static_cast<std::uint64_t>(comm.max(static_cast<double>(max_id)));  // exact below 2^53
+  const std::uint64_t width = max_id / ranks + 1;  // IDs per range: r = id / width < ranks
+  std::vector<std::vector<std::uint32_t>> to(ranks);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    to[std::min<std::size_t>(p.id[i] / width, ranks - 1)].push_back(static_cast<std::uint32_t>(i));
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) send[r] = pack(p, to[r], {});
+  Particles<D> out;
+  unpack_all(out, comm.exchange(send));
+  std::vector<std::uint32_t> order(out.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::sort(order.begin(), order.end(), [&out](std::uint32_t a, std::uint32_t b) { return out.id[a] < out.id[b]; });
+  out.gather(order);
+  return out;
+}
+
+template <int D>
+Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p) {
+  std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()));
+  if (comm.rank() == from) {
+    std::vector<std::uint32_t> all(p.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+    send[0] = pack(p, all, {});
   }
+  Particles<D> out;
+  const auto recv = comm.exchange(send);
+  if (comm.is_root()) unpack_all(out, recv);
   return out;
 }
 
@@ -242,15 +277,8 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
     if (!send_[r].empty()) send[r] = pack(p, send_[r], {});
-  const auto recv = comm.exchange(send);
-  ghosts_ = 0;
-  for (const auto& buf : recv) ghosts_ += packed_count(buf);
-  p.resize(owned_ + ghosts_);
-  std::size_t first = owned_;
-  for (const auto& buf : recv) {
-    unpack(p, first, buf, {});
-    first += packed_count(buf);
-  }
+  unpack_all(p, comm.exchange(send));
+  ghosts_ = p.size() - owned_;
 }
 
 template <int D>
@@ -321,6 +349,10 @@ template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
 template Particles<2> gather_to_root(const Communicator&, const Particles<2>&);
 template Particles<3> gather_to_root(const Communicator&, const Particles<3>&);
+template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&);
+template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&);
+template Particles<2> send_to_root(const Communicator&, int, const Particles<2>&);
+template Particles<3> send_to_root(const Communicator&, int, const Particles<3>&);
 template void keep_share(const Communicator&, Particles<2>&);
 template void keep_share(const Communicator&, Particles<3>&);
 template class Halo<2>;

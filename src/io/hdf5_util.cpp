@@ -147,20 +147,43 @@ double read_attr_double(hid_t obj, const std::string& name, const std::string& f
   return read_attr_doubles(obj, name, file).front();
 }
 
-void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols) {
+Handle create_dataset(hid_t group, const std::string& name, bool u64, std::size_t rows, std::size_t cols) {
   const hsize_t dims[2] = {rows, cols};
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
-  Handle ds(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
-  if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail("HDF5 could not write dataset '" + name + "'");
+  Handle ds(H5Dcreate2(group, name.c_str(), u64 ? H5T_STD_U64LE : H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                       untimed(H5P_DATASET_CREATE), H5P_DEFAULT),
+            H5Dclose);
+  if (!ds.valid()) fail("HDF5 could not create dataset '" + name + "'");
+  return ds;
+}
+
+namespace {
+void write_rows(hid_t ds, hid_t mem_type, const void* data, std::size_t first_row, std::size_t rows, std::size_t cols) {
+  if (rows == 0) return;
+  Handle file_space(H5Dget_space(ds), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(file_space);
+  const hsize_t start[2] = {first_row, 0}, count[2] = {rows, cols};
+  Handle mem_space(H5Screate_simple(rank, count, nullptr), H5Sclose);
+  if (H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
+      H5Dwrite(ds, mem_type, mem_space, file_space, H5P_DEFAULT, data) < 0)
+    fail("HDF5 could not write rows " + std::to_string(first_row) + "+" + std::to_string(rows) + " of a dataset");
+}
+}  // namespace
+
+void write_rows(hid_t ds, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols) {
+  write_rows(ds, H5T_NATIVE_DOUBLE, data, first_row, rows, cols);
+}
+
+void write_rows(hid_t ds, const std::uint64_t* data, std::size_t first_row, std::size_t rows) {
+  write_rows(ds, H5T_NATIVE_UINT64, data, first_row, rows, 1);
+}
+
+void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols) {
+  write_rows(create_dataset(group, name, false, rows, cols), data, 0, rows, cols);
 }
 
 void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows) {
-  const hsize_t dims[1] = {rows};
-  Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  Handle ds(H5Dcreate2(group, name.c_str(), H5T_STD_U64LE, space, H5P_DEFAULT, untimed(H5P_DATASET_CREATE), H5P_DEFAULT), H5Dclose);
-  if (!ds.valid() || H5Dwrite(ds, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail("HDF5 could not write dataset '" + name + "'");
+  write_rows(create_dataset(group, name, true, rows, 1), data, 0, rows);
 }
 
 namespace {

@@ -64,7 +64,11 @@ double read_attr_double(hid_t obj, const std::string& name, const std::string& f
 std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file);
 std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file);  // fixed-length strings
 
-// Datasets of doubles/uint64 with shape rows x cols (cols == 1: a 1-D dataset).
+// Datasets of doubles/uint64 with shape rows x cols (cols == 1: a 1-D dataset), created whole and
+// written in blocks of consecutive rows.
+Handle create_dataset(hid_t group, const std::string& name, bool u64, std::size_t rows, std::size_t cols);
+void write_rows(hid_t dataset, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols);
+void write_rows(hid_t dataset, const std::uint64_t* data, std::size_t first_row, std::size_t rows);
 void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols);
 void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows);
 // Reads a dataset as doubles (or uint64); checks the shape (cols = 0: any second dimension allowed,

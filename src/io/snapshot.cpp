@@ -77,50 +77,89 @@ void write_units(hid_t file, const UnitSystem& u) {
   h5::write_attr(g, "UnitVelocity_in_cm_per_s", u.velocity_cm_per_s());
 }
 
-template <class T>
-std::vector<T> in_id_order(const std::vector<T>& v, const std::vector<std::size_t>& order) {
-  std::vector<T> out(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) out[k] = v[order[k]];
-  return out;
+// One snapshot dataset per field flagged kSnapshot (InternalEnergy only with energy).
+bool in_snapshot(const FieldInfo& info, const SnapshotMeta& meta) {
+  return (info.flags & kSnapshot) && !((info.flags & kEnergyOnly) && !meta.energy);
+}
+
+template <class T, int D>
+constexpr std::size_t snapshot_columns() {
+  if constexpr (std::is_same_v<T, Vec<D>>) return 3;  // always N x 3 (z = 0 in 2D), as GADGET readers expect
+  else if constexpr (std::is_same_v<T, Mat<D>>) return D * D;
+  else return 1;
+}
+
+// Rows order[0..n) of one field, flattened to doubles (or IDs).
+template <int D, class T>
+void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<std::size_t>& order, std::size_t first_row) {
+  const std::size_t n = order.size();
+  if constexpr (std::is_same_v<T, std::uint64_t>) {
+    std::vector<std::uint64_t> out(n);
+    for (std::size_t k = 0; k < n; ++k) out[k] = field[order[k]];
+    h5::write_rows(ds, out.data(), first_row, n);
+  } else {
+    constexpr std::size_t cols = snapshot_columns<T, D>();
+    std::vector<double> flat(n * cols, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const T& v = field[order[k]];
+      if constexpr (std::is_same_v<T, double>) flat[k] = v;
+      else if constexpr (std::is_same_v<T, Vec<D>>)
+        for (int c = 0; c < D; ++c) flat[3 * k + static_cast<std::size_t>(c)] = v[c];
+      else std::copy(v.c.begin(), v.c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * cols));
+    }
+    h5::write_rows(ds, flat.data(), first_row, n, cols);
+  }
 }
 
 }  // namespace
 
 template <int D>
-void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta) {
-  const std::size_t n = p.size();
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+double snapshot_box_size(const Particles<D>& p) {
+  double box = 0;
+  for (const auto& x : p.pos)
+    for (int c = 0; c < D; ++c) box = std::max(box, 2.0 * std::abs(x[c]));
+  return box;
+}
+
+template <int D>
+void write_snapshot_blocks(const std::string& path, std::size_t n, const SnapshotMeta& meta,
+                           const std::function<bool(SnapshotBlock<D>&)>& next_block) {
   write_hdf5_atomically(path, [&](hid_t file) {
-    SnapshotMeta m = meta;
-    for (const auto& x : p.pos)
-      for (int c = 0; c < D; ++c) m.box_size = std::max(m.box_size, 2.0 * std::abs(x[c]));
-    write_header(file, n, D, m);
+    write_header(file, n, D, meta);
     write_units(file, meta.units);
     write_parameters(file, meta);
     h5::Handle g = h5::create_group(file, "PartType0");
-    p.for_each_field([&](const FieldInfo& info, const auto& field) {
-      if (!(info.flags & kSnapshot) || ((info.flags & kEnergyOnly) && !meta.energy)) return;
-      const auto sorted = in_id_order(field, order);
+    std::vector<h5::Handle> datasets;
+    const Particles<D> none;
+    none.for_each_field([&](const FieldInfo& info, const auto& field) {
       using T = typename std::decay_t<decltype(field)>::value_type;
-      const std::string name(info.dataset);
-      if constexpr (std::is_same_v<T, std::uint64_t>) {
-        h5::write_dataset(g, name, sorted.data(), n);
-      } else if constexpr (std::is_same_v<T, double>) {
-        h5::write_dataset(g, name, sorted.data(), n, 1);
-      } else if constexpr (std::is_same_v<T, Vec<D>>) {
-        std::vector<double> xyz(3 * n, 0.0);  // always N x 3 (z = 0 in 2D), as GADGET readers expect
-        for (std::size_t k = 0; k < n; ++k)
-          for (int c = 0; c < D; ++c) xyz[3 * k + static_cast<std::size_t>(c)] = sorted[k][c];
-        h5::write_dataset(g, name, xyz.data(), n, 3);
-      } else {
-        std::vector<double> flat(n * D * D);
-        for (std::size_t k = 0; k < n; ++k)
-          std::copy(sorted[k].c.begin(), sorted[k].c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * D * D));
-        h5::write_dataset(g, name, flat.data(), n, D * D);
-      }
+      if (in_snapshot(info, meta))
+        datasets.push_back(h5::create_dataset(g, std::string(info.dataset), std::is_same_v<T, std::uint64_t>, n,
+                                              snapshot_columns<T, D>()));
     });
+    std::size_t row = 0;
+    for (SnapshotBlock<D> block; next_block(block);) {
+      std::size_t k = 0;
+      block.particles->for_each_field([&](const FieldInfo& info, const auto& field) {
+        if (in_snapshot(info, meta)) write_field_rows<D>(datasets[k++], field, *block.order, row);
+      });
+      row += block.order->size();
+    }
+    if (row != n) throw UserError("snapshot blocks hold " + std::to_string(row) + " particles, not " + std::to_string(n));
+  });
+}
+
+template <int D>
+void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta) {
+  std::vector<std::size_t> order(p.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  SnapshotMeta m = meta;
+  m.box_size = std::max(m.box_size, snapshot_box_size(p));
+  bool done = false;
+  write_snapshot_blocks<D>(path, p.size(), m, [&](SnapshotBlock<D>& b) {
+    b = SnapshotBlock<D>{&p, &order};
+    return !std::exchange(done, true);
   });
 }
 
@@ -215,6 +254,12 @@ Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units
   return read_snapshot_unisolated<D>(path, code_units, meta);
 }
 
+template double snapshot_box_size(const Particles<2>&);
+template double snapshot_box_size(const Particles<3>&);
+template void write_snapshot_blocks(const std::string&, std::size_t, const SnapshotMeta&,
+                                    const std::function<bool(SnapshotBlock<2>&)>&);
+template void write_snapshot_blocks(const std::string&, std::size_t, const SnapshotMeta&,
+                                    const std::function<bool(SnapshotBlock<3>&)>&);
 template void write_snapshot(const std::string&, const Particles<2>&, const SnapshotMeta&);
 template void write_snapshot(const std::string&, const Particles<3>&, const SnapshotMeta&);
 template Particles<2> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&);
