@@ -22,7 +22,7 @@
 #include "integrate/integrator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
-#include "io/distributed_snapshot.hpp"
+#include "io/distributed_output.hpp"
 #include "io/snapshot.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -280,14 +280,6 @@ class Runner {
     s_.accreted_angular_momentum += domain_.comm().sum_in_rank_order(lz);
   }
 
-  // All particles on the writing rank (rank 0), for checkpoints; none elsewhere. (Snapshots are
-  // written without gathering: io/distributed_snapshot.hpp.)
-  const Particles<kDim>& particles_to_write() {
-    if (!distributed()) return p_;
-    gathered_ = gather_to_root(domain_.comm(), p_);
-    return gathered_;
-  }
-
   template <class F>
   void on_root(F&& write) {
     run_on_root(domain_.comm(), write);
@@ -328,9 +320,7 @@ class Runner {
     ScopedPhase timer(timers_, "io");
     s_.integrator = integrator_->state();
     if (root()) csv_.flush();
-    const Particles<kDim>& all = particles_to_write();
-    on_root([&] { write_checkpoint((fs::path(dir_) / kCheckpointName).string(), all, s_); });
-    gathered_ = Particles<kDim>();
+    write_checkpoint(domain_.comm(), (fs::path(dir_) / kCheckpointName).string(), p_, s_);
     last_checkpoint_ = Clock::now();
   }
 
@@ -390,7 +380,6 @@ class Runner {
   RunState s_;
   PhaseTimers timers_;
   DistributedDomain<kDim> domain_{Communicator::world()};
-  Particles<kDim> gathered_;  // rank 0: all particles while a file is written
   RateEvaluator<kDim> rates_;
   std::unique_ptr<Integrator<kDim>> integrator_;
   std::vector<double> t_out_;

@@ -54,13 +54,13 @@ void unpack(Particles<D>& p, std::size_t first, const std::vector<std::byte>& bu
 
 // Appends every buffer's particles to p.
 template <int D>
-void unpack_all(Particles<D>& p, const std::vector<std::vector<std::byte>>& bufs) {
+void unpack_all(Particles<D>& p, const std::vector<std::vector<std::byte>>& bufs, const FieldNames& fields = {}) {
   std::size_t n = p.size();
   for (const auto& buf : bufs) n += packed_count(buf);
   std::size_t first = p.size();
   p.resize(n);
   for (const auto& buf : bufs) {
-    unpack(p, first, buf, {});
+    unpack(p, first, buf, fields);
     first += packed_count(buf);
   }
 }
@@ -121,19 +121,6 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 }
 
 template <int D>
-Particles<D> gather_to_root(const Communicator& comm, const Particles<D>& p) {
-  const auto ranks = static_cast<std::size_t>(comm.size());
-  std::vector<std::uint32_t> all(p.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
-  std::vector<std::vector<std::byte>> send(ranks);
-  send[0] = pack(p, all, {});
-  const auto recv = comm.exchange(send);
-  Particles<D> out;
-  if (comm.is_root()) unpack_all(out, recv);
-  return out;
-}
-
-template <int D>
 Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
   const auto ranks = static_cast<std::size_t>(comm.size());
   std::uint64_t max_id = 0;
@@ -155,16 +142,16 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
 }
 
 template <int D>
-Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p) {
+Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p, const FieldNames& fields) {
   std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()));
   if (comm.rank() == from) {
     std::vector<std::uint32_t> all(p.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
-    send[0] = pack(p, all, {});
+    send[0] = pack(p, all, fields);
   }
   Particles<D> out;
   const auto recv = comm.exchange(send);
-  if (comm.is_root()) unpack_all(out, recv);
+  if (comm.is_root()) unpack_all(out, recv, fields);
   return out;
 }
 
@@ -347,12 +334,10 @@ template Decomposition<2> decompose(const Communicator&, const Particles<2>&, do
 template Decomposition<3> decompose(const Communicator&, const Particles<3>&, double, std::size_t);
 template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>&);
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
-template Particles<2> gather_to_root(const Communicator&, const Particles<2>&);
-template Particles<3> gather_to_root(const Communicator&, const Particles<3>&);
 template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&);
 template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&);
-template Particles<2> send_to_root(const Communicator&, int, const Particles<2>&);
-template Particles<3> send_to_root(const Communicator&, int, const Particles<3>&);
+template Particles<2> send_to_root(const Communicator&, int, const Particles<2>&, const FieldNames&);
+template Particles<3> send_to_root(const Communicator&, int, const Particles<3>&, const FieldNames&);
 template void keep_share(const Communicator&, Particles<2>&);
 template void keep_share(const Communicator&, Particles<3>&);
 template class Halo<2>;

@@ -34,19 +34,15 @@ Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, doub
 template <int D>
 void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p);
 
-// All particles on rank 0 (in rank order; empty elsewhere), for writing one file. O(N) memory on
-// rank 0 for the time of the write.
-template <int D>
-Particles<D> gather_to_root(const Communicator& comm, const Particles<D>& p);
-
 // Copies of the particles regrouped by ID, in ID order: rank r gets the IDs of the r-th of P equal
 // ID ranges (for writing files in ID order without gathering them anywhere).
 template <int D>
 Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p);
 
-// Rank `from`'s particles, delivered to rank 0 (collective; empty on other ranks).
+// Rank `from`'s particles (only `fields`; the rest sized but unset), delivered to rank 0
+// (collective; empty on other ranks).
 template <int D>
-Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p);
+Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p, const FieldNames& fields = {});
 
 // Keeps this rank's share of a particle set every rank holds whole (every P-th particle); the
 // decomposition then sends each to its owner.

@@ -47,7 +47,8 @@ void add_state(Checksum& c, const RunState& s) {
 
 }  // namespace
 
-void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
+void write_checkpoint_blocks(const std::string& path, std::size_t n, const RunState& s, std::size_t blocks,
+                             const CheckpointBlock& block) {
   Checksum sum;
   add_state(sum, s);
   write_hdf5_atomically(path, [&](hid_t file) {
@@ -63,20 +64,41 @@ void write_checkpoint(const std::string& path, const Particles<2>& p, const RunS
     h5::write_attr(g, "IntegratorState", s.integrator.empty() ? std::vector<double>{0.0} : s.integrator);
     h5::write_attr(g, "IntegratorStateSize", static_cast<long long>(s.integrator.size()));
     h5::write_attr(g, "Config", s.config_toml);
-    h5::write_attr(g, "NumParticles", static_cast<long long>(p.size()));
+    h5::write_attr(g, "NumParticles", static_cast<long long>(n));
     h5::Handle parts = h5::create_group(file, "Particles");
-    p.for_each_field([&](const FieldInfo& info, const auto& field) {
+    const Particles<kDim> none;
+    none.for_each_field([&](const FieldInfo& info, const auto& empty) {
       if (!(info.flags & kCheckpoint)) return;
-      using T = typename std::decay_t<decltype(field)>::value_type;
-      sum.add(field.data(), field.size() * sizeof(T));
+      using T = typename std::decay_t<decltype(empty)>::value_type;
       const std::string name(info.name);
-      if constexpr (std::is_same_v<T, std::uint64_t>)
-        h5::write_dataset(parts, name, field.data(), field.size());
-      else
-        h5::write_dataset(parts, name, reinterpret_cast<const double*>(field.data()), field.size(), components<T>());
+      const bool ids = std::is_same_v<T, std::uint64_t>;
+      h5::Handle ds = h5::create_dataset(parts, name, ids, n, components<T>());
+      std::size_t row = 0;
+      for (std::size_t b = 0; b < blocks; ++b) {  // field-major, as the checksum runs
+        const Particles<kDim>& q = block(info.name, b);
+        const auto& field = [&]() -> const std::vector<T>& {
+          const std::vector<T>* f = nullptr;
+          q.for_each_field([&](const FieldInfo& i, const auto& v) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::vector<T>>)
+              if (i.name == info.name) f = &v;
+          });
+          return *f;
+        }();
+        sum.add(field.data(), field.size() * sizeof(T));
+        if constexpr (std::is_same_v<T, std::uint64_t>)
+          h5::write_rows(ds, field.data(), row, field.size());
+        else
+          h5::write_rows(ds, reinterpret_cast<const double*>(field.data()), row, field.size(), components<T>());
+        row += field.size();
+      }
+      if (row != n) throw UserError("checkpoint blocks hold " + std::to_string(row) + " particles, not " + std::to_string(n));
     });
     h5::write_attr(g, "Checksum", std::to_string(sum.h));
   });
+}
+
+void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
+  write_checkpoint_blocks(path, p.size(), s, 1, [&p](std::string_view, std::size_t) -> const Particles<2>& { return p; });
 }
 
 namespace {
