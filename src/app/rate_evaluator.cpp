@@ -135,6 +135,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
     append_neighbour_lists(grid_, p.pos, owned, search_radius_, candidates_);
   }
   build_interaction_lists(candidates_, p.pos, p.h, p.id, lists_);
+  truncate_lists(lists_, owned);  // ghosts get their values from their owners
 }
 
 template <int D>
@@ -148,6 +149,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
+    const std::size_t owned = p.size();  // lists only for these (the ghosts come next)
     if (domain_) {
       Lattice<D> lattice;
       {
@@ -165,7 +167,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     }
     {
       ScopedPhase t(timers_, "neighbour_search");
-      build_neighbour_lists(grid_, p.pos, support, lists_);
+      build_neighbour_lists(grid_, p.pos, support, lists_, owned);
     }
     ScopedPhase t(timers_, "density");
     compute_density(p, lists_, KernelAt<K, D>(h_), factors_);
@@ -186,7 +188,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   }
   ++evaluations_;
   if (domain_) domain_->remove_ghosts(p);
-  pairs_ += lists_.offsets[p.size()];  // owned particles' pairs (ghosts' lists are scratch)
+  pairs_ += lists_.total();
 }
 
 template <int D>

@@ -68,10 +68,11 @@ void unpack_all(Particles<D>& p, const std::vector<std::vector<std::byte>>& bufs
 }  // namespace
 
 // The lattice over every rank's particles, exactly as one process would build it over all of them
-// (min and max are exact, so the corner and cell size have the same bits), and the top grid on it.
+// (min and max are exact, so the corner and cell size have the same bits), and a top grid on it of
+// about max(top_cells_per_rank x ranks, particles / particles_per_top_cell) cells.
 template <int D>
 Decomposition<D> global_top_grid(const Communicator& comm, const Particles<D>& p, double min_cell_size,
-                                 std::size_t top_cells_per_rank) {
+                                 std::size_t top_cells_per_rank, std::size_t particles_per_top_cell = 0) {
   std::array<double, D> lo, hi;
   lo.fill(std::numeric_limits<double>::max());
   hi.fill(std::numeric_limits<double>::lowest());
@@ -89,7 +90,9 @@ Decomposition<D> global_top_grid(const Communicator& comm, const Particles<D>& p
     vlo[k] = lo[static_cast<std::size_t>(k)];
     vhi[k] = hi[static_cast<std::size_t>(k)];
   }
-  return make_top_grid(make_lattice(vlo, vhi, n, min_cell_size), top_cells_per_rank * static_cast<std::size_t>(comm.size()));
+  std::size_t cells = top_cells_per_rank * static_cast<std::size_t>(comm.size());
+  if (particles_per_top_cell > 0) cells = std::max<std::size_t>(cells, n / particles_per_top_cell);
+  return make_top_grid(make_lattice(vlo, vhi, n, min_cell_size), cells);
 }
 
 template <int D>
@@ -291,7 +294,10 @@ void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
 template <int D>
 Lattice<D> DistributedDomain<D>::add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need,
                                             const RadiusOf& reach) {
-  const Decomposition<D> grid = global_top_grid(comm_, p, min_cell_size, top_cells_per_rank_);
+  // The halo's top cells are finer than the decomposition's (a few lattice cells across): ghosts
+  // are chosen by distance to whole top cells, so coarse ones would bring many spare ghosts.
+  constexpr std::size_t kParticlesPerHaloCell = 8;
+  const Decomposition<D> grid = global_top_grid(comm_, p, min_cell_size, top_cells_per_rank_, kParticlesPerHaloCell);
   halo_.build(comm_, grid, p, need, reach);
   return grid.lattice;
 }

@@ -128,8 +128,15 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
 }  // namespace
 
 template <int D>
-void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl) {
-  build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl);
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl,
+                           std::size_t count) {
+  build_lists(grid, pos, 0, std::min(count, pos.size()), [radius](std::size_t) { return radius; }, KeepAll{}, nl);
+}
+
+void truncate_lists(NeighbourLists& nl, std::size_t count) {
+  if (count >= nl.size()) return;
+  nl.offsets.resize(count + 1);
+  nl.index.resize(nl.offsets[count]);
 }
 
 template <int D>
@@ -156,8 +163,8 @@ void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& 
   for (std::size_t k = 1; k < more.offsets.size(); ++k) nl.offsets.push_back(base + more.offsets[k]);
 }
 
-template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&);
-template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&, std::size_t);
+template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&);
 template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
                                             const SettleRadius&, NeighbourLists&, std::size_t);

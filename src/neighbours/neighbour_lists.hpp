@@ -31,8 +31,13 @@ struct NeighbourLists {
 
 // Any cell size works; cells of about radius/2 scan the fewest candidates (5 x 5 cells of h^2
 // against 3 x 3 of 4 h^2 for a support radius 2h).
+// Lists are made for the first `count` particles (the rest, e.g. ghosts, are only candidates).
 template <int D>
-void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& out);
+void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& out,
+                           std::size_t count = SIZE_MAX);
+
+// Keeps the lists of the first `count` particles.
+void truncate_lists(NeighbourLists& nl, std::size_t count);
 
 // Gather lists with a search radius per particle (variable smoothing lengths): j is in i's list
 // when |x_i - x_j| < radius[i]. The cell size may be smaller than the radii; more cells are scanned.

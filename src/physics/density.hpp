@@ -6,6 +6,8 @@
 // so are the kernel-gradient factors of every pair (pair_factors.hpp). With one global h the factor
 // is dW(r, h)/dr / r; with variable h it is the pair average of dW(r, h_i)/dr / r and
 // dW(r, h_j)/dr / r (interaction_lists.hpp), symmetric in i <-> j as momentum conservation needs.
+// Computed for the particles that have lists (nl.size(): all of them, or a process's own particles
+// when the rest are ghosts whose values come from their owners).
 // Reads: pos, mass, h. Writes: rho, volume, pair factors.
 #include "core/particles.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -40,7 +42,7 @@ double density_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl
 template <class K, int D>
 void compute_density(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern, PairFactors& factors) {
   factors.resize(nl.total());
-  par::for_each(p.size(), [&](std::size_t i) {
+  par::for_each(nl.size(), [&](std::size_t i) {
     p.rho[i] = density_at(i, p, nl, kern, factors.data());
     p.volume[i] = p.mass[i] / p.rho[i];
   }, "density");
@@ -53,7 +55,7 @@ void compute_density(Particles<D>& p, const NeighbourLists& nl, std::vector<Kern
   factors.resize(nl.total());
   kernels.resize(p.size(), KernelAt<K, D>(1.0));
   par::for_each(p.size(), [&](std::size_t i) { kernels[i] = KernelAt<K, D>(p.h[i]); }, "density");
-  par::for_each(p.size(), [&](std::size_t i) {
+  par::for_each(nl.size(), [&](std::size_t i) {
     const KernelAt<K, D>& ki = kernels[i];
     p.rho[i] = density_at(i, p, nl, ki, factors.data(), [&](std::uint32_t j, double r) {
       // One division per pair: (dW_i/dr + dW_j/dr) / (2 r); w'(0) = 0, so coincident particles get 0.

@@ -59,7 +59,7 @@ Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const Neighbo
 
 template <int D>
 void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
-  par::for_each(p.size(), [&](std::size_t i) {
+  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
     double du_pressure = 0.0;
     p.acc[i] = hydro_acceleration_at(i, p, nl, F, phys, du_pressure) + point_mass_gravity(p.pos[i], phys.gm);
     p.du_dt[i] += du_pressure;

@@ -94,7 +94,7 @@ Mat<D> neighbour_corrected_gradient_at(std::size_t i, const Particles<D>& p, con
 
 template <int D>
 void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
-  par::for_each(p.size(), [&](std::size_t i) {
+  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
     const GradientSums<D> g = gradient_sums_at(i, p, nl, F);
     p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
     if (phys.force_correction) {
@@ -112,7 +112,7 @@ void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const Pai
 // reads every neighbour's p.correction, so it runs after compute_viscous_stress has set them all.
 template <int D>
 void add_force_corrected_heating(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  par::for_each(p.size(), [&](std::size_t i) {
+  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
     p.du_dt[i] += 0.5 * double_dot(p.stress[i], neighbour_corrected_gradient_at(i, p, nl, F));
   }, "velocity_gradient");
 }
