@@ -234,6 +234,8 @@ class Runner {
     meta_.units = setup_.units;
     meta_.parameters = cfg.resolved;
     if (distributed()) rates_.set_domain(&domain_);
+    domain_.comm().barrier();  // a common time origin for every rank's trace track
+    trace_origin_us_ = par::trace_now_us();
   }
 
   // A fresh run: rates of the initial state, snapshot_000, first diagnostics row.
@@ -340,7 +342,7 @@ class Runner {
   }
 
   // Per rank: owned particles, ghosts, peak memory and phase timers (load imbalance and
-  // communication share per phase; bench/mpi_scaling.sh reads it). Collective.
+  // communication share per phase; bench/mpi_scaling.sh reads it). Collective; the text on rank 0.
   std::string ranks_json() const {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
@@ -348,12 +350,9 @@ class Runner {
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
        << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
        << ", \"timers\": " << timers_.json().substr(0, timers_.json().size() - 1) << "}";
-    const std::string mine = os.str();
-    const auto all = domain_.comm().all_gather(std::vector<std::byte>(reinterpret_cast<const std::byte*>(mine.data()),
-                                                                      reinterpret_cast<const std::byte*>(mine.data()) + mine.size()));
+    const std::vector<std::string> all = domain_.comm().gather_to_root(os.str());
     std::string out = "[\n";
-    for (std::size_t r = 0; r < all.size(); ++r)
-      out += "  " + std::string(reinterpret_cast<const char*>(all[r].data()), all[r].size()) + (r + 1 < all.size() ? ",\n" : "\n");
+    for (std::size_t r = 0; r < all.size(); ++r) out += "  " + all[r] + (r + 1 < all.size() ? ",\n" : "\n");
     return out + "]\n";
   }
 
@@ -385,6 +384,7 @@ class Runner {
   std::vector<double> t_out_;
   SnapshotMeta meta_;
   std::ofstream csv_;
+  double trace_origin_us_ = 0;
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
 };
 
@@ -452,10 +452,13 @@ RunSummary Runner::advance() {
   sum.output_dir = dir_;
   sum.interrupted = interrupted;
   const std::string per_rank = ranks_json();
+  std::vector<std::string> traces;  // rank 0: every rank's trace events
+  if (!opts_.trace_file.empty())
+    traces = domain_.comm().gather_to_root(par::trace_events(domain_.comm().rank(), trace_origin_us_));
   on_root([&] {
     write_text_file(dir_, "timers.json", timers_.json());
     write_text_file(dir_, "ranks.json", per_rank);
-    if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file))
+    if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file, traces))
       throw UserError("cannot write trace file '" + opts_.trace_file + "'");
   });
   if (root() && !opts_.quiet) {

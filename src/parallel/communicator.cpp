@@ -78,9 +78,6 @@ double Communicator::sum_in_rank_order(double x) const {
   return s;
 }
 
-std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const {
-  return exchange(std::vector<std::vector<std::byte>>(static_cast<std::size_t>(size_), mine));
-}
 
 bool Communicator::any(bool x) const {
   if (size_ == 1) return x;
@@ -127,12 +124,27 @@ void Communicator::barrier() const {
   if (size_ > 1) check(MPI_Barrier(comm_of(handle_)), "MPI_Barrier");
 }
 
+namespace {
+// Started by an MPI launcher (mpirun/mpiexec of OpenMPI or MPICH, srun with PMI or PMIx)?
+bool launched_by_mpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK", "MPI_LOCALNRANKS"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+}  // namespace
+
 MpiSession::MpiSession(int& argc, char**& argv) {
+  if (!launched_by_mpi()) return;  // one process: no MPI (singleton start-up costs time and shared memory)
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
 }
 
-MpiSession::~MpiSession() { MPI_Finalize(); }
+MpiSession::~MpiSession() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  if (initialised && !finalised) MPI_Finalize();
+}
 
 void abort_all_ranks(int code) {
   int initialised = 0;
@@ -153,7 +165,7 @@ void Communicator::sum(std::span<std::uint64_t>) const {}
 bool Communicator::any(bool x) const { return x; }
 void Communicator::bit_or(std::span<std::uint64_t>) const {}
 double Communicator::sum_in_rank_order(double x) const { return x; }
-std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const { return {mine}; }
+
 std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
   return send;
 }
@@ -163,5 +175,15 @@ MpiSession::~MpiSession() = default;
 void abort_all_ranks(int code) { std::_Exit(code); }
 
 #endif
+
+std::vector<std::string> Communicator::gather_to_root(const std::string& mine) const {
+  if (size_ == 1) return {mine};
+  std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(size_));
+  send[0].assign(reinterpret_cast<const std::byte*>(mine.data()), reinterpret_cast<const std::byte*>(mine.data()) + mine.size());
+  std::vector<std::string> out;
+  for (const auto& b : exchange(send))
+    if (rank_ == 0) out.emplace_back(reinterpret_cast<const char*>(b.data()), b.size());
+  return out;
+}
 
 }  // namespace sphdisk

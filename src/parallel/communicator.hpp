@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace sphdisk {
@@ -33,8 +34,8 @@ class Communicator {
   // Sum of one value per rank, added in rank order on every rank: the same bits on every rank for a
   // given rank count, but not across rank counts (for diagnostics, never for particle state).
   double sum_in_rank_order(double x) const;
-  // Gathers every rank's bytes on every rank, by rank.
-  std::vector<std::vector<std::byte>> all_gather(const std::vector<std::byte>& mine) const;
+  // Every rank's text on rank 0, by rank (empty elsewhere).
+  std::vector<std::string> gather_to_root(const std::string& mine) const;
   // True on every rank when any rank passes true (a collective decision).
   bool any(bool x) const;
 
@@ -49,8 +50,11 @@ class Communicator {
   void* handle_ = nullptr;  // MPI_Comm when built with MPI
 };
 
-// Initialises MPI for the program's lifetime (threads are used inside each rank: the funnelled level
-// suffices, as only the main thread communicates). A no-op without MPI.
+// Initialises MPI for the program's lifetime when the program was started by an MPI launcher
+// (threads are used inside each rank: the funnelled level suffices, as only the main thread
+// communicates). Started directly, the program is one process and does not touch MPI at all (an
+// MPI singleton start needs shared-memory files and time; the world communicator then has one rank).
+// A no-op without MPI.
 class MpiSession {
  public:
   MpiSession(int& argc, char**& argv);

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <vector>
 
 #include "parallel/loops.hpp"
@@ -72,10 +73,8 @@ void trace_record(std::string_view name, double begin_us, double end_us) {
   thread_buffer().push_back(Event{std::string(name), begin_us, end_us, thread_index()});
 }
 
-bool trace_write(const std::string& path) {
-  std::ofstream os(path);
-  if (!os) return false;
-  os << "{\"displayTimeUnit\":\"ms\",\"traceEvents\":[\n";
+std::string trace_events(int pid, double origin_us) {
+  std::ostringstream os;
   bool first = true;
   std::lock_guard<std::mutex> lock(g_buffers_mutex);
   for (const auto* buf : g_buffers) {
@@ -84,12 +83,28 @@ bool trace_write(const std::string& path) {
       first = false;
       os << "{\"name\":\"";
       json_escape(os, e.name);
-      os << "\",\"ph\":\"X\",\"pid\":0,\"tid\":" << e.tid << ",\"ts\":" << e.begin_us
+      os << "\",\"ph\":\"X\",\"pid\":" << pid << ",\"tid\":" << e.tid << ",\"ts\":" << e.begin_us - origin_us
          << ",\"dur\":" << (e.end_us - e.begin_us) << "}";
     }
+  }
+  return os.str();
+}
+
+bool trace_write(const std::string& path, const std::vector<std::string>& event_lists) {
+  std::ofstream os(path);
+  if (!os) return false;
+  os << "{\"displayTimeUnit\":\"ms\",\"traceEvents\":[\n";
+  bool first = true;
+  for (const std::string& events : event_lists) {
+    if (events.empty()) continue;
+    if (!first) os << ",\n";
+    first = false;
+    os << events;
   }
   os << "\n]}\n";
   return static_cast<bool>(os);
 }
+
+bool trace_write(const std::string& path) { return trace_write(path, {trace_events(0, 0.0)}); }
 
 }  // namespace sphdisk::par

@@ -1,10 +1,12 @@
 #pragma once
 // Trace recorder for the Chrome trace-event JSON format (opens in Perfetto / chrome://tracing).
 // Each thread appends complete events ("ph":"X") to its own buffer, so recording takes no lock;
-// buffers are merged when the trace is written. One track per thread (tid = thread index).
+// buffers are merged when the trace is written. One track per thread (tid = thread index), one
+// process track per MPI rank (pid = rank).
 #include <chrono>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sphdisk::par {
 
@@ -14,6 +16,10 @@ bool trace_enabled();
 void trace_record(std::string_view name, double begin_us, double end_us);
 // Writes all recorded events as Chrome trace JSON; returns false on I/O failure.
 bool trace_write(const std::string& path);
+// This process's events as JSON objects on process track `pid` (an MPI rank), times relative to
+// origin_us; and a trace file from several processes' event lists.
+std::string trace_events(int pid, double origin_us);
+bool trace_write(const std::string& path, const std::vector<std::string>& event_lists);
 double trace_now_us();
 
 class TraceScope {

@@ -32,6 +32,20 @@ for smoothing in adaptive constant; do
   accreted=$(tail -1 "$work/$smoothing/r3t1/diagnostics.csv" | cut -d, -f7)
   [ "$accreted" != "0" ] || { echo "no particle was accreted: the test does not exercise accretion"; fail=1; }
 done
+# The trace of a 2-rank x 2-thread run has one process track per rank, each with its threads and
+# the communication phase.
+"$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=2 \
+  "$sphdisk" run -q --set problem.particles=4000 --set 'output.tau=[0.0185]' "$(dirname "$0")/small_ring.toml" \
+  --output "$work/traced" --trace "$work/trace.json" > /dev/null
+if /usr/bin/python3 - "$work/trace.json" <<'PY'
+import json, sys
+events = json.load(open(sys.argv[1]))["traceEvents"]
+tracks = {(e["pid"], e["tid"]) for e in events}
+comm = {e["pid"] for e in events if e["name"] == "communication"}
+sys.exit(0 if tracks == {(0, 0), (0, 1), (1, 0), (1, 1)} and comm == {0, 1} else 1)
+PY
+then echo "trace: one track per rank and thread, communication on both ranks"; else echo "trace: WRONG tracks"; fail=1; fi
+
 # Stopped on 3 ranks after 10 steps (checkpoint at step 7), resumed on 2 ranks: the same particles
 # as one uninterrupted process (the stored configuration differs, so the data are compared).
 args=(--set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0
