@@ -9,6 +9,7 @@
 
 #include "app/ring_analysis.hpp"
 #include "app/simulation.hpp"
+#include "app/sweep.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
@@ -103,6 +104,11 @@ int main(int argc, char** argv) {
   analyze->add_option("--json", json_path, "also write the comparison as JSON");
   analyze->add_option("--bins", bins, "number of radial bins over 0.05-2.05 r0")->check(CLI::Range(1, 100000));
 
+  std::string study_path;
+  CLI::App* sweep = app.add_subcommand("sweep", "run a study of simulations spread over MPI ranks (mpirun -np P sphdisk sweep ...)");
+  sweep->add_option("study", study_path, "study file (TOML: base, output, attempts, [[run]] name + set)")->required();
+  sweep->add_flag("--overwrite", overwrite, "replace the results of an earlier sweep in the output directory");
+
   CLI::App* report = app.add_subcommand("report", "draw the figures and report of a run directory");
   report->add_option("dir", run_dir, "run directory")->required();
 
@@ -113,7 +119,7 @@ int main(int argc, char** argv) {
   }
   // Runs may span MPI ranks (mpirun -np P sphdisk run ...); the other commands are one process.
   std::optional<sphdisk::MpiSession> mpi;
-  if (*run || *resume) mpi.emplace(argc, argv);
+  if (*run || *resume || *sweep) mpi.emplace(argc, argv);
 
   try {
     if (*run) {
@@ -146,6 +152,13 @@ int main(int argc, char** argv) {
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary.output_dir);
       return 0;
+    }
+    if (*sweep) {
+      const auto s = sphdisk::run_sweep(study_path, overwrite);
+      if (!sphdisk::Communicator::world().is_root()) return 0;
+      std::printf("sweep: %zu runs, %zu succeeded, %zu failed; attempts in %s\n", s.runs, s.succeeded, s.failed,
+                  s.csv_path.c_str());
+      return s.failed == 0 ? 0 : 5;
     }
     if (*analyze) return cmd_analyze(snapshot, json_path, bins);
     if (*report) return cmd_report(run_dir);

@@ -378,7 +378,7 @@ class Runner {
   Particles<kDim> p_;
   RunState s_;
   PhaseTimers timers_;
-  DistributedDomain<kDim> domain_{Communicator::world()};
+  DistributedDomain<kDim> domain_{opts_.one_process ? Communicator::self() : Communicator::world()};
   RateEvaluator<kDim> rates_;
   std::unique_ptr<Integrator<kDim>> integrator_;
   std::vector<double> t_out_;
@@ -488,7 +488,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   const Setup setup = make_setup(cfg);
   check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, cfg.smoothing == "adaptive");
 
-  const Communicator comm = Communicator::world();
+  const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
@@ -538,7 +538,7 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   Particles<kDim> p = read_checkpoint(path, state);
   const Config cfg = parse_config(state.config_toml, path, overrides);
   apply_run_options(cfg, opts);
-  keep_share(Communicator::world(), p);
+  keep_share(opts.one_process ? Communicator::self() : Communicator::world(), p);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();

@@ -13,6 +13,7 @@ struct RunOptions {
   bool overwrite = false;   // allow replacing outputs of an earlier run in the same directory
   std::string trace_file;   // Chrome trace JSON, "" for none
   bool quiet = false;       // no progress lines
+  bool one_process = false; // this rank alone, even under mpirun (a run of a sweep)
 };
 
 struct RunSummary {

@@ -133,6 +133,34 @@ bool launched_by_mpi() {
 }
 }  // namespace
 
+constexpr int kPointToPointTag = 7;
+
+void Communicator::send(int to, const std::vector<std::byte>& bytes) const {
+  check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, kPointToPointTag, comm_of(handle_)),
+        "MPI_Send");
+}
+
+std::vector<std::byte> Communicator::receive_from_any(int& from) const {
+  MPI_Status status;
+  check(MPI_Probe(MPI_ANY_SOURCE, kPointToPointTag, comm_of(handle_), &status), "MPI_Probe");
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  std::vector<std::byte> bytes(static_cast<std::size_t>(count));
+  from = status.MPI_SOURCE;
+  check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, kPointToPointTag, comm_of(handle_), MPI_STATUS_IGNORE), "MPI_Recv");
+  return bytes;
+}
+
+std::vector<std::byte> Communicator::receive_from(int from) const {
+  MPI_Status status;
+  check(MPI_Probe(from, kPointToPointTag, comm_of(handle_), &status), "MPI_Probe");
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  std::vector<std::byte> bytes(static_cast<std::size_t>(count));
+  check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, kPointToPointTag, comm_of(handle_), MPI_STATUS_IGNORE), "MPI_Recv");
+  return bytes;
+}
+
 MpiSession::MpiSession(int& argc, char**& argv) {
   if (!launched_by_mpi()) return;  // one process: no MPI (singleton start-up costs time and shared memory)
   int provided = 0;
@@ -170,6 +198,15 @@ std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std
   return send;
 }
 void Communicator::barrier() const {}
+void Communicator::send(int, const std::vector<std::byte>&) const {
+  throw std::logic_error("Communicator::send: there is no other rank");
+}
+std::vector<std::byte> Communicator::receive_from(int) const {
+  throw std::logic_error("Communicator::receive_from: there is no other rank");
+}
+std::vector<std::byte> Communicator::receive_from_any(int&) const {
+  throw std::logic_error("Communicator::receive_from_any: there is no other rank");
+}
 MpiSession::MpiSession(int&, char**&) {}
 MpiSession::~MpiSession() = default;
 void abort_all_ranks(int code) { std::_Exit(code); }

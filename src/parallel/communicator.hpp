@@ -16,8 +16,10 @@ namespace sphdisk {
 
 class Communicator {
  public:
-  // The world communicator (MPI must be initialised: see MpiSession).
+  // All ranks of the run (one rank when MPI was not started: see MpiSession).
   static Communicator world();
+  // This rank alone (a one-process simulation inside a distributed sweep).
+  static Communicator self() { return Communicator(0, 1, nullptr); }
 
   int rank() const { return rank_; }
   int size() const { return size_; }
@@ -43,6 +45,11 @@ class Communicator {
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& send) const;
 
   void barrier() const;
+
+  // Point to point (the task farm's requests and replies): blocking, in order between two ranks.
+  void send(int to, const std::vector<std::byte>& bytes) const;
+  std::vector<std::byte> receive_from(int from) const;
+  std::vector<std::byte> receive_from_any(int& from) const;
 
  private:
   Communicator(int rank, int size, void* handle) : rank_(rank), size_(size), handle_(handle) {}
