@@ -156,8 +156,9 @@ int main(int argc, char** argv) {
     if (*sweep) {
       const auto s = sphdisk::run_sweep(study_path, overwrite);
       if (!sphdisk::Communicator::world().is_root()) return 0;
-      std::printf("sweep: %zu runs, %zu succeeded, %zu failed; attempts in %s\n", s.runs, s.succeeded, s.failed,
-                  s.csv_path.c_str());
+      std::printf("sweep: %zu runs, %zu succeeded, %zu failed%s; attempts in %s\n", s.runs, s.succeeded, s.failed,
+                  s.interrupted ? ", interrupted by a signal" : "", s.csv_path.c_str());
+      if (s.interrupted) return 75;
       return s.failed == 0 ? 0 : 5;
     }
     if (*analyze) return cmd_analyze(snapshot, json_path, bins);

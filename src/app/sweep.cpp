@@ -128,11 +128,14 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite) {
         opts.quiet = true;
         opts.one_process = true;
         const RunSummary s = run_simulation(configs[k], opts);
+        if (s.interrupted)  // SIGTERM/SIGINT: the study stops; this run can be resumed
+          return TaskOutcome{false, "interrupted by a signal; continue with sphdisk resume " + opts.output_dir, 0.0, true};
         return TaskOutcome{true, std::to_string(s.steps) + " steps", 0.0};
       },
       [&](const TaskReport& r) {
         const bool ok = r.outcome.ok;
         if (r.final) ++(ok ? summary.succeeded : summary.failed);
+        summary.interrupted = summary.interrupted || r.outcome.stop_all;
         csv << study.runs[r.task].name << ',' << (ok ? "ok" : (r.final ? "failed" : "retried")) << ',' << r.rank << ','
             << r.attempt << ',' << r.outcome.seconds << ',' << csv_field(one_line(r.outcome.message)) << '\n';
         std::fprintf(stderr, "sweep: %s on rank %d (attempt %d): %s%s\n", study.runs[r.task].name.c_str(), r.rank,

@@ -17,6 +17,7 @@ namespace sphdisk {
 
 struct SweepSummary {
   std::size_t runs = 0, succeeded = 0, failed = 0;
+  bool interrupted = false;  // a signal stopped the study (runs not started are not counted)
   std::string csv_path;
 };
 

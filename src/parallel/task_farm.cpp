@@ -19,7 +19,7 @@ constexpr std::uint64_t kStop = ~std::uint64_t{0};
 
 std::vector<std::byte> encode_result(std::uint64_t task, const TaskOutcome& o) {
   std::vector<std::byte> b(8 + 8 + 8 + o.message.size());
-  const std::uint64_t ok = o.ok ? 1 : 0;
+  const std::uint64_t ok = (o.ok ? 1 : 0) | (o.stop_all ? 2 : 0);
   std::memcpy(b.data(), &task, 8);
   std::memcpy(b.data() + 8, &ok, 8);
   std::memcpy(b.data() + 16, &o.seconds, 8);
@@ -32,7 +32,8 @@ std::uint64_t decode_result(const std::vector<std::byte>& b, TaskOutcome& o) {
   std::memcpy(&task, b.data(), 8);
   std::memcpy(&ok, b.data() + 8, 8);
   std::memcpy(&o.seconds, b.data() + 16, 8);
-  o.ok = ok != 0;
+  o.ok = (ok & 1) != 0;
+  o.stop_all = (ok & 2) != 0;
   o.message.assign(reinterpret_cast<const char*>(b.data()) + 24, b.size() - 24);
   return task;
 }
@@ -72,7 +73,8 @@ void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
     for (std::size_t t = 0; t < n_tasks; ++t)
       for (int a = 1; a <= attempts; ++a) {
         const TaskOutcome o = run_one(execute, t);
-        on_report(TaskReport{t, 0, a, o, o.ok || a == attempts});
+        on_report(TaskReport{t, 0, a, o, o.ok || o.stop_all || a == attempts});
+        if (o.stop_all) return;
         if (o.ok) break;
       }
     return;
@@ -93,6 +95,7 @@ void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
   for (std::size_t t = 0; t < n_tasks; ++t) queue.push_back(Pending{t, 1, {}});
   std::vector<Pending> running(static_cast<std::size_t>(comm.size()));
   int workers = comm.size() - 1;
+  bool stopping = false;
   while (workers > 0) {
     int from = 0;
     const std::vector<std::byte> msg = comm.receive_from_any(from);
@@ -100,8 +103,9 @@ void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
     const std::uint64_t done = decode_result(msg, o);
     if (done != kNone) {
       Pending p = running[static_cast<std::size_t>(from)];
-      const bool final = o.ok || p.attempt >= attempts;
+      const bool final = o.ok || o.stop_all || p.attempt >= attempts;
       on_report(TaskReport{p.task, from, p.attempt, o, final});
+      stopping = stopping || o.stop_all;
       if (!final) {
         p.failed_on.insert(from);
         ++p.attempt;
@@ -111,7 +115,7 @@ void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
     // The first queued task that has not failed on this rank, else the first one.
     auto next = std::find_if(queue.begin(), queue.end(), [&](const Pending& p) { return !p.failed_on.count(from); });
     if (next == queue.end()) next = queue.begin();
-    if (next == queue.end()) {
+    if (next == queue.end() || stopping) {
       comm.send(from, encode_task(kStop));
       --workers;
       continue;

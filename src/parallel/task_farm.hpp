@@ -15,6 +15,7 @@ struct TaskOutcome {
   bool ok = false;
   std::string message;   // the result (ok) or the failure
   double seconds = 0;    // the executor's wall time
+  bool stop_all = false; // not ok and no more tasks anywhere (e.g. the user interrupted the study)
 };
 
 struct TaskReport {
