@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numeric>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -138,7 +139,7 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
   Particles<D> out;
   unpack_all(out, comm.exchange(send));
   std::vector<std::uint32_t> order(out.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&out](std::uint32_t a, std::uint32_t b) { return out.id[a] < out.id[b]; });
   out.gather(order);
   return out;
@@ -149,7 +150,7 @@ Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>
   std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()));
   if (comm.rank() == from) {
     std::vector<std::uint32_t> all(p.size());
-    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+    std::iota(all.begin(), all.end(), 0u);
     send[0] = pack(p, all, fields);
   }
   Particles<D> out;
@@ -236,7 +237,7 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   // go to (box-to-box distance below the larger of the two radii), found once per cell.
   std::vector<std::vector<std::uint32_t>> targets(cells);
   for (std::size_t s = 0; s < cells; ++s) {
-    if (reach_max[s] == 0 && !(occupied[s * words + me / 64] >> (me % 64) & 1u)) continue;
+    if (!(occupied[s * words + me / 64] >> (me % 64) & 1u)) continue;  // none of this rank's particles
     const std::array<int, D> ts = coord_of_index<D>(grid, s);
     const double R = std::max(widest_need, reach_max[s]) * (1.0 + 1e-12);
     for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
