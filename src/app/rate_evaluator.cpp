@@ -72,17 +72,17 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
   for (;;) {
     Lattice<D> lattice;
     if (domain_) {
-      ScopedPhase t(timers_, "communication");
-      lattice = domain_->add_ghosts(p, cell_size, [&](std::size_t i) { return need_[i]; },
-                                    [&](std::size_t i) { return reach_[i]; });
-    } else {
-      Vec<D> lo, hi;
-      bounding_box(p.pos, lo, hi);
-      lattice = make_lattice(lo, hi, p.size(), cell_size);
-    }
-    {
+      {
+        ScopedPhase t(timers_, "communication");
+        lattice = domain_->add_ghosts(p, cell_size, [&](std::size_t i) { return need_[i]; },
+                                      [&](std::size_t i) { return reach_[i]; });
+      }
       ScopedPhase t(timers_, "cell_build");
       build_cell_grid(lattice, p.pos, p.id, grid_);
+    } else {
+      ScopedPhase t(timers_, "cell_build");
+      build_cell_grid(p.pos, p.id, cell_size, grid_);
+      lattice = Lattice<D>{grid_.lo, grid_.cell_size, grid_.dims};  // one process: the grid is the lattice
     }
     double extent = 0;  // a search beyond twice the lattice's diagonal cannot find more particles
     for (int k = 0; k < D; ++k) extent += std::pow(lattice.cell_size * lattice.dims[static_cast<std::size_t>(k)], 2);

@@ -54,38 +54,12 @@ void bounding_box(const std::vector<Vec<D>>& pos, Vec<D>& lo, Vec<D>& hi) {
   hi = b.hi;
 }
 
-template <int D>
-Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, double min_cell_size) {
-  Lattice<D> L;
-  L.lo = lo;
-  const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
-  L.cell_size = min_cell_size;
-  for (;;) {
-    double ncells = 1;
-    for (int k = 0; k < D; ++k) ncells *= std::floor((hi[k] - lo[k]) / L.cell_size) + 1.0;
-    if (ncells <= max_cells) break;
-    L.cell_size *= 1.25;
-  }
-  for (int k = 0; k < D; ++k)
-    L.dims[static_cast<std::size_t>(k)] = static_cast<int>(std::floor((hi[k] - lo[k]) / L.cell_size)) + 1;
-  return L;
-}
+namespace {
 
+// The grid of the lattice cells spanned by [lo, hi], the bounding box of pos.
 template <int D>
-void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
-                     CellGrid<D>& g) {
-  if (pos.empty()) {
-    build_cell_grid(Lattice<D>{Vec<D>{}, min_cell_size, {}}, pos, id, g);
-    return;
-  }
-  Vec<D> lo, hi;
-  bounding_box(pos, lo, hi);
-  build_cell_grid(make_lattice(lo, hi, pos.size(), min_cell_size), pos, id, g);
-}
-
-template <int D>
-void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
-                     CellGrid<D>& g) {
+void fill_cell_grid(const Lattice<D>& lattice, const Vec<D>& lo, const Vec<D>& hi, const std::vector<Vec<D>>& pos,
+                    const std::vector<std::uint64_t>& id, CellGrid<D>& g) {
   const std::size_t n = pos.size();
   g.lo = lattice.lo;
   g.cell_size = lattice.cell_size;
@@ -99,8 +73,6 @@ void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, 
   }
   // This grid spans the lattice cells of the particles' bounding box (all of the lattice when pos
   // holds every particle).
-  Vec<D> lo, hi;
-  bounding_box(pos, lo, hi);
   g.origin.fill(0);
   g.dims = lattice.dims;
   for (int k = 0; k < D; ++k) {
@@ -143,6 +115,44 @@ void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, 
   par::for_each(n, [&](std::size_t k) { g.sorted_pos[k] = pos[g.sorted[k]]; });
 }
 
+}  // namespace
+
+template <int D>
+Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, double min_cell_size) {
+  Lattice<D> L;
+  L.lo = lo;
+  const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
+  L.cell_size = min_cell_size;
+  for (;;) {
+    double ncells = 1;
+    for (int k = 0; k < D; ++k) ncells *= std::floor((hi[k] - lo[k]) / L.cell_size) + 1.0;
+    if (ncells <= max_cells) break;
+    L.cell_size *= 1.25;
+  }
+  for (int k = 0; k < D; ++k)
+    L.dims[static_cast<std::size_t>(k)] = static_cast<int>(std::floor((hi[k] - lo[k]) / L.cell_size)) + 1;
+  return L;
+}
+
+template <int D>
+void build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double min_cell_size,
+                     CellGrid<D>& g) {
+  if (pos.empty()) {
+    build_cell_grid(Lattice<D>{Vec<D>{}, min_cell_size, {}}, pos, id, g);
+    return;
+  }
+  Vec<D> lo, hi;
+  bounding_box(pos, lo, hi);
+  fill_cell_grid(make_lattice(lo, hi, pos.size(), min_cell_size), lo, hi, pos, id, g);
+}
+
+template <int D>
+void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id,
+                     CellGrid<D>& g) {
+  Vec<D> lo, hi;
+  if (!pos.empty()) bounding_box(pos, lo, hi);
+  fill_cell_grid(lattice, lo, hi, pos, id, g);
+}
 template struct CellGrid<2>;
 template struct CellGrid<3>;
 template Lattice<2> make_lattice(const Vec<2>&, const Vec<2>&, std::size_t, double);

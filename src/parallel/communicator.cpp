@@ -33,40 +33,31 @@ Communicator Communicator::world() {
   return Communicator(rank, size, &world);
 }
 
+// In-place all-reduce of n values; a communicator of one rank has nothing to combine.
+void all_reduce(void* handle, int size, void* data, std::size_t n, MPI_Datatype type, MPI_Op op) {
+  if (size == 1) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), type, op, comm_of(handle)), "MPI_Allreduce");
+}
+
 double Communicator::min(double x) const {
-  if (size_ == 1) return x;
-  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, comm_of(handle_)), "MPI_Allreduce");
+  all_reduce(handle_, size_, &x, 1, MPI_DOUBLE, MPI_MIN);
   return x;
 }
 double Communicator::max(double x) const {
-  if (size_ == 1) return x;
-  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm_of(handle_)), "MPI_Allreduce");
+  all_reduce(handle_, size_, &x, 1, MPI_DOUBLE, MPI_MAX);
   return x;
 }
 std::uint64_t Communicator::sum(std::uint64_t x) const {
-  if (size_ == 1) return x;
-  check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_UINT64_T, MPI_SUM, comm_of(handle_)), "MPI_Allreduce");
+  all_reduce(handle_, size_, &x, 1, MPI_UINT64_T, MPI_SUM);
   return x;
 }
-void Communicator::min(std::span<double> x) const {
-  if (size_ == 1) return;
-  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_DOUBLE, MPI_MIN, comm_of(handle_)),
-        "MPI_Allreduce");
-}
-void Communicator::max(std::span<double> x) const {
-  if (size_ == 1) return;
-  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_DOUBLE, MPI_MAX, comm_of(handle_)),
-        "MPI_Allreduce");
-}
+void Communicator::min(std::span<double> x) const { all_reduce(handle_, size_, x.data(), x.size(), MPI_DOUBLE, MPI_MIN); }
+void Communicator::max(std::span<double> x) const { all_reduce(handle_, size_, x.data(), x.size(), MPI_DOUBLE, MPI_MAX); }
 void Communicator::sum(std::span<std::uint64_t> x) const {
-  if (size_ == 1) return;
-  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_UINT64_T, MPI_SUM, comm_of(handle_)),
-        "MPI_Allreduce");
+  all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_SUM);
 }
 void Communicator::bit_or(std::span<std::uint64_t> x) const {
-  if (size_ == 1) return;
-  check(MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(x.size()), MPI_UINT64_T, MPI_BOR, comm_of(handle_)),
-        "MPI_Allreduce");
+  all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_BOR);
 }
 
 double Communicator::sum_in_rank_order(double x) const {
@@ -140,25 +131,23 @@ void Communicator::send(int to, const std::vector<std::byte>& bytes) const {
         "MPI_Send");
 }
 
-std::vector<std::byte> Communicator::receive_from_any(int& from) const {
+// The next message from `source` (MPI_ANY_SOURCE: from any rank); its sender goes to `from`.
+std::vector<std::byte> receive(void* handle, int source, int& from) {
   MPI_Status status;
-  check(MPI_Probe(MPI_ANY_SOURCE, kPointToPointTag, comm_of(handle_), &status), "MPI_Probe");
+  check(MPI_Probe(source, kPointToPointTag, comm_of(handle), &status), "MPI_Probe");
   int count = 0;
   MPI_Get_count(&status, MPI_BYTE, &count);
   std::vector<std::byte> bytes(static_cast<std::size_t>(count));
   from = status.MPI_SOURCE;
-  check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, kPointToPointTag, comm_of(handle_), MPI_STATUS_IGNORE), "MPI_Recv");
+  check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, kPointToPointTag, comm_of(handle), MPI_STATUS_IGNORE), "MPI_Recv");
   return bytes;
 }
 
+std::vector<std::byte> Communicator::receive_from_any(int& from) const { return receive(handle_, MPI_ANY_SOURCE, from); }
+
 std::vector<std::byte> Communicator::receive_from(int from) const {
-  MPI_Status status;
-  check(MPI_Probe(from, kPointToPointTag, comm_of(handle_), &status), "MPI_Probe");
-  int count = 0;
-  MPI_Get_count(&status, MPI_BYTE, &count);
-  std::vector<std::byte> bytes(static_cast<std::size_t>(count));
-  check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, kPointToPointTag, comm_of(handle_), MPI_STATUS_IGNORE), "MPI_Recv");
-  return bytes;
+  int sender = from;
+  return receive(handle_, from, sender);
 }
 
 MpiSession::MpiSession(int& argc, char**& argv) {
