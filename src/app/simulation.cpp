@@ -195,24 +195,6 @@ void truncate_diagnostics(const std::string& dir, long long step) {
   write_text_file(dir, kDiagnosticsName, kept.str());
 }
 
-// Runs `f` on rank 0 only (files are written there); a UserError there stops every rank: rank 0
-// rethrows it, the others throw PeerError (they stop quietly: rank 0 has reported it).
-template <class F>
-void run_on_root(const Communicator& comm, F&& f) {
-  std::string error;
-  if (comm.is_root()) {
-    try {
-      f();
-    } catch (const UserError& e) {
-      error = e.what();
-    }
-  }
-  if (comm.any(!error.empty())) {
-    if (comm.is_root()) throw UserError(error);
-    throw PeerError("rank 0 failed to write");
-  }
-}
-
 // One run from a state (fresh or checkpointed) to the last output time.
 class Runner {
  public:

@@ -105,20 +105,15 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite) {
   csv << "run,status,rank,attempt,wall_seconds,message\n";
   // Results of an earlier sweep are kept unless asked (each attempt then writes over its run's
   // directory, so a retry replaces what a failed attempt left).
-  std::string error;
-  if (comm.is_root()) {
+  run_on_root(comm, [&] {
     std::error_code ec;
     fs::create_directories(study.output, ec);
-    if (ec) error = "cannot create sweep output directory '" + study.output + "': " + ec.message();
+    if (ec) throw UserError("cannot create sweep output directory '" + study.output + "': " + ec.message());
     for (const SweepRun& r : study.runs)
-      if (error.empty() && !overwrite && fs::exists(fs::path(study.output) / r.name / "diagnostics.csv"))
-        error = "sweep output '" + (fs::path(study.output) / r.name).string() +
-                "' already holds results; use another output, or --overwrite to replace them";
-  }
-  if (comm.any(!error.empty())) {
-    if (comm.is_root()) throw UserError(error);
-    throw PeerError(error);
-  }
+      if (!overwrite && fs::exists(fs::path(study.output) / r.name / "diagnostics.csv"))
+        throw UserError("sweep output '" + (fs::path(study.output) / r.name).string() +
+                        "' already holds results; use another output, or --overwrite to replace them");
+  });
   run_task_farm(
       comm, study.runs.size(), study.attempts,
       [&](std::size_t k) {

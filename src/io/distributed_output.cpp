@@ -19,11 +19,13 @@ using FetchBlock = std::function<const Particles<D>&(std::size_t round, int from
 // rank 0 still takes part in the rounds left; the failure is then reported on every rank.
 template <int D>
 void write_on_root(const Communicator& comm, const Particles<D>& mine, const std::vector<FieldNames>& rounds,
-                   const std::function<void(const FetchBlock<D>&)>& write, const std::string& path) {
+                   const std::function<void(const FetchBlock<D>&)>& write) {
   const auto senders = static_cast<std::size_t>(comm.size() - 1);
   const std::size_t total = rounds.size() * senders;
-  std::string error;
-  if (comm.is_root()) {
+  if (!comm.is_root())
+    for (const FieldNames& fields : rounds)
+      for (int from = 1; from < comm.size(); ++from) send_to_root(comm, from, mine, fields);
+  run_on_root(comm, [&] {
     std::size_t done = 0;
     Particles<D> block;
     const FetchBlock<D> fetch = [&](std::size_t round, int from) -> const Particles<D>& {
@@ -34,21 +36,17 @@ void write_on_root(const Communicator& comm, const Particles<D>& mine, const std
       ++done;
       return block;
     };
+    auto finish_rounds = [&] {
+      for (; done < total; ++done) send_to_root(comm, static_cast<int>(1 + done % senders), mine, rounds[done / senders]);
+    };
     try {
       write(fetch);
-    } catch (const UserError& e) {
-      error = e.what();
+    } catch (const UserError&) {
+      finish_rounds();  // the other ranks are still sending
+      throw;
     }
-    for (; done < total; ++done)
-      send_to_root(comm, static_cast<int>(1 + done % senders), mine, rounds[done / senders]);
-  } else {
-    for (const FieldNames& fields : rounds)
-      for (int from = 1; from < comm.size(); ++from) send_to_root(comm, from, mine, fields);
-  }
-  if (comm.any(!error.empty())) {
-    if (comm.is_root()) throw UserError(error);
-    throw PeerError("rank 0 failed to write " + path);
-  }
+    finish_rounds();
+  });
 }
 
 }  // namespace
@@ -74,7 +72,7 @@ void write_snapshot(const Communicator& comm, const std::string& path, const Par
       b = SnapshotBlock<D>{&block, &order};
       return true;
     });
-  }, path);
+  });
 }
 
 void write_checkpoint(const Communicator& comm, const std::string& path, const Particles<2>& p, const RunState& s) {
@@ -95,7 +93,7 @@ void write_checkpoint(const Communicator& comm, const std::string& path, const P
                               while (rounds[round][0] != field) ++round;
                               return fetch(round, static_cast<int>(b));
                             });
-  }, path);
+  });
 }
 
 template void write_snapshot(const Communicator&, const std::string&, const Particles<2>&, const SnapshotMeta&);

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
+
 namespace sphdisk {
 
 class Communicator {
@@ -69,6 +71,24 @@ class MpiSession {
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
 };
+
+// Runs `f` on rank 0 only (files are written there); a UserError there stops every rank: rank 0
+// rethrows it, the others throw PeerError (they stop quietly: rank 0 has reported it). Collective.
+template <class F>
+void run_on_root(const Communicator& comm, F&& f) {
+  std::string error;
+  if (comm.is_root()) {
+    try {
+      f();
+    } catch (const UserError& e) {
+      error = e.what();
+    }
+  }
+  if (comm.any(!error.empty())) {
+    if (comm.is_root()) throw UserError(error);
+    throw PeerError("rank 0 failed: " + error);
+  }
+}
 
 // Aborts every rank (a rank that fails alone would leave the others waiting forever).
 [[noreturn]] void abort_all_ranks(int code);
