@@ -464,6 +464,13 @@ void apply_run_options(const Config& cfg, const RunOptions& opts) {
 
 }  // namespace
 
+// The global h giving `neighbours` neighbours on average over all ranks' particles.
+double calibrated_smoothing_length(const Communicator& comm, const Particles<kDim>& p, double neighbours) {
+  if (comm.size() == 1) return calibrate_smoothing_length(p.pos, p.id, neighbours);
+  const Particles<kDim> all = copy_to_every_rank(comm, p, {"pos", "id"});
+  return calibrate_smoothing_length(all.pos, all.id, neighbours);
+}
+
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   apply_run_options(cfg, opts);
   const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
@@ -474,9 +481,11 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
-    // Every rank reads the whole file (O(N) for a moment), then keeps its share below.
+    // Each rank reads 1/P of the file's rows; the decomposition then sends each to its owner.
     SnapshotMeta meta;
-    p = read_snapshot<kDim>(cfg.initial_conditions, &setup.units, meta);
+    const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};
+    run_collectively(comm, [&] { p = read_snapshot<kDim>(cfg.initial_conditions, &setup.units, meta, share); });
+    if (!ids_unique(comm, p.id)) throw UserError("'" + cfg.initial_conditions + "': ParticleIDs are not unique");
     state.time = meta.time;
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
@@ -490,9 +499,10 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   // h: given, or from the target mean neighbour number (analytically for the ring, measured on
   // the particles for a user's file). Constant smoothing keeps it for all particles and times
   // (P98 sec. 5.3); adaptive smoothing starts its per-particle solve from it.
-  state.smoothing_length = cfg.smoothing_length > 0           ? cfg.smoothing_length
-                           : cfg.initial_conditions.empty()   ? ring_smoothing_length(setup.ring, cfg.neighbours)
-                                                              : calibrate_smoothing_length(p.pos, p.id, cfg.neighbours);
+  // Calibrating on a user's file needs all positions on every rank for a moment (O(N)).
+  state.smoothing_length = cfg.smoothing_length > 0         ? cfg.smoothing_length
+                           : cfg.initial_conditions.empty() ? ring_smoothing_length(setup.ring, cfg.neighbours)
+                                                            : calibrated_smoothing_length(comm, p, cfg.neighbours);
   for (auto& hi : p.h) hi = state.smoothing_length;
   state.config_toml = cfg.resolved_toml;
 
@@ -506,7 +516,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     }
     write_text_file(dir, "config.toml", cfg.resolved_toml);
   });
-  if (!cfg.initial_conditions.empty()) keep_share(comm, p);  // the decomposition sends each to its owner
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.start();
   return runner.advance();
@@ -517,10 +526,9 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   if (!fs::exists(path))
     throw UserError("no checkpoint in '" + dir + "' (expected " + kCheckpointName + "); start the run again with sphdisk run");
   RunState state;
-  Particles<kDim> p = read_checkpoint(path, state);
+  Particles<kDim> p = read_checkpoint(path, state, opts.one_process ? Communicator::self() : Communicator::world());
   const Config cfg = parse_config(state.config_toml, path, overrides);
   apply_run_options(cfg, opts);
-  keep_share(opts.one_process ? Communicator::self() : Communicator::world(), p);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();

@@ -124,18 +124,24 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
   unpack_all(p, recv);
 }
 
-template <int D>
-Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
+// Rank of each ID's range: P equal ranges over [0, max ID of all ranks].
+std::function<std::size_t(std::uint64_t)> id_range_of(const Communicator& comm, const std::vector<std::uint64_t>& ids) {
   const auto ranks = static_cast<std::size_t>(comm.size());
   std::uint64_t max_id = 0;
-  for (const std::uint64_t id : p.id) max_id = std::max(max_id, id);
-  max_id = static_cast<std::uint64_t>(comm.max(static_cast<double>(max_id)));  // exact below 2^53
-  const std::uint64_t width = max_id / ranks + 1;  // IDs per range: r = id / width < ranks
-  std::vector<std::vector<std::uint32_t>> to(ranks);
-  for (std::size_t i = 0; i < p.size(); ++i)
-    to[std::min<std::size_t>(p.id[i] / width, ranks - 1)].push_back(static_cast<std::uint32_t>(i));
-  std::vector<std::vector<std::byte>> send(ranks);
-  for (std::size_t r = 0; r < ranks; ++r) send[r] = pack(p, to[r], {});
+  for (const std::uint64_t id : ids) max_id = std::max(max_id, id);
+  std::vector<std::uint64_t> global{max_id};
+  comm.max(std::span<std::uint64_t>(global));
+  const std::uint64_t width = global[0] / ranks + 1;  // IDs per range: r = id / width < ranks
+  return [width, ranks](std::uint64_t id) { return std::min<std::size_t>(id / width, ranks - 1); };
+}
+
+template <int D>
+Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
+  const auto range_of = id_range_of(comm, p.id);
+  std::vector<std::vector<std::uint32_t>> to(static_cast<std::size_t>(comm.size()));
+  for (std::size_t i = 0; i < p.size(); ++i) to[range_of(p.id[i])].push_back(static_cast<std::uint32_t>(i));
+  std::vector<std::vector<std::byte>> send(to.size());
+  for (std::size_t r = 0; r < to.size(); ++r) send[r] = pack(p, to[r], {});
   Particles<D> out;
   unpack_all(out, comm.exchange(send));
   std::vector<std::uint32_t> order(out.size());
@@ -145,27 +151,33 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
   return out;
 }
 
-template <int D>
-Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p, const FieldNames& fields) {
-  std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()));
-  if (comm.rank() == from) {
-    std::vector<std::uint32_t> all(p.size());
-    std::iota(all.begin(), all.end(), 0u);
-    send[0] = pack(p, all, fields);
+bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids) {
+  const auto range_of = id_range_of(comm, ids);
+  std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(comm.size()));
+  for (const std::uint64_t id : ids) to[range_of(id)].push_back(id);
+  std::vector<std::vector<std::byte>> send(to.size());
+  for (std::size_t r = 0; r < to.size(); ++r) {
+    const auto* bytes = reinterpret_cast<const std::byte*>(to[r].data());
+    send[r].assign(bytes, bytes + to[r].size() * sizeof(std::uint64_t));
   }
-  Particles<D> out;
-  const auto recv = comm.exchange(send);
-  if (comm.is_root()) unpack_all(out, recv, fields);
-  return out;
+  std::vector<std::uint64_t> mine;
+  for (const auto& buf : comm.exchange(send)) {
+    const std::size_t n = buf.size() / sizeof(std::uint64_t);
+    mine.resize(mine.size() + n);
+    std::memcpy(mine.data() + mine.size() - n, buf.data(), buf.size());
+  }
+  std::sort(mine.begin(), mine.end());
+  return !comm.any(std::adjacent_find(mine.begin(), mine.end()) != mine.end());
 }
 
 template <int D>
-void keep_share(const Communicator& comm, Particles<D>& p) {
-  if (comm.size() == 1) return;
-  std::vector<std::uint32_t> mine;
-  for (std::size_t i = static_cast<std::size_t>(comm.rank()); i < p.size(); i += static_cast<std::size_t>(comm.size()))
-    mine.push_back(static_cast<std::uint32_t>(i));
-  p.gather(mine);
+Particles<D> copy_to_every_rank(const Communicator& comm, const Particles<D>& p, const FieldNames& fields) {
+  std::vector<std::uint32_t> all(p.size());
+  std::iota(all.begin(), all.end(), 0u);
+  const std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()), pack(p, all, fields));
+  Particles<D> out;
+  unpack_all(out, comm.exchange(send), fields);
+  return out;
 }
 
 // Top cells are visited as offsets in a box of half-width `reach` cells around a centre cell.
@@ -343,10 +355,8 @@ template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
 template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&);
 template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&);
-template Particles<2> send_to_root(const Communicator&, int, const Particles<2>&, const FieldNames&);
-template Particles<3> send_to_root(const Communicator&, int, const Particles<3>&, const FieldNames&);
-template void keep_share(const Communicator&, Particles<2>&);
-template void keep_share(const Communicator&, Particles<3>&);
+template Particles<2> copy_to_every_rank(const Communicator&, const Particles<2>&, const FieldNames&);
+template Particles<3> copy_to_every_rank(const Communicator&, const Particles<3>&, const FieldNames&);
 template class Halo<2>;
 template class Halo<3>;
 

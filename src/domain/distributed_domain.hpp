@@ -39,15 +39,14 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 template <int D>
 Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p);
 
-// Rank `from`'s particles (only `fields`; the rest sized but unset), delivered to rank 0
-// (collective; empty on other ranks).
+// Every rank's particles (only `fields`; the rest sized but unset), on every rank, in rank order
+// (collective; O(N) on every rank: only for start-up steps that need all positions).
 template <int D>
-Particles<D> send_to_root(const Communicator& comm, int from, const Particles<D>& p, const FieldNames& fields = {});
+Particles<D> copy_to_every_rank(const Communicator& comm, const Particles<D>& p, const FieldNames& fields);
 
-// Keeps this rank's share of a particle set every rank holds whole (every P-th particle); the
-// decomposition then sends each to its owner.
-template <int D>
-void keep_share(const Communicator& comm, Particles<D>& p);
+// True on every rank when no ID occurs twice among all ranks' `ids` (collective; O(N/P) memory:
+// each ID is checked on the rank of its ID range).
+bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids);
 
 template <int D>
 class Halo {

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "io/hdf5_util.hpp"
+#include "parallel/shared_file.hpp"
 
 namespace sphdisk {
 namespace {
@@ -37,20 +38,30 @@ void publish_file(const std::string& tmp_path, const std::string& final_path) {
   }
 }
 
-void write_hdf5_atomically(const std::string& path, const std::function<void(hid_t file)>& fill) {
+void write_hdf5_atomically(const std::string& path, const Communicator& comm, const ShareFill& fill) {
   const std::string tmp = path + ".tmp";
   try {
-    h5::Handle file = h5::create_file(tmp);
-    fill(file);
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("HDF5 could not flush the file");
-  } catch (const UserError& e) {
+    run_collectively(comm, [&] {
+      h5::Handle access(shared_file_access(comm), H5Pclose);
+      h5::Handle transfer(shared_transfer(comm), H5Pclose);
+      h5::Handle file = h5::create_file(tmp, access);
+      fill(file, transfer);
+      if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw UserError("HDF5 could not flush the file");
+    });  // the file is closed (collectively) before anyone publishes it
+  } catch (const UserError& e) {  // on rank 0 (the others throw PeerError)
     std::remove(tmp.c_str());
     fail_writing(path, e.what());
+  } catch (const PeerError&) {
+    throw;
   } catch (...) {
-    std::remove(tmp.c_str());
+    if (comm.is_root()) std::remove(tmp.c_str());
     throw;
   }
-  publish_file(tmp, path);
+  run_on_root(comm, [&] { publish_file(tmp, path); });
+}
+
+void write_hdf5_atomically(const std::string& path, const std::function<void(hid_t file)>& fill) {
+  write_hdf5_atomically(path, Communicator::self(), [&fill](hid_t file, hid_t) { fill(file); });
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {

@@ -7,6 +7,8 @@
 #include <functional>
 #include <string>
 
+#include "parallel/communicator.hpp"
+
 namespace sphdisk {
 
 // fsync tmp_path, rename it to final_path, fsync the directory. Removes tmp_path on failure.
@@ -15,6 +17,12 @@ void publish_file(const std::string& tmp_path, const std::string& final_path);
 // Creates an HDF5 file at path + ".tmp", lets fill() write into it, flushes and publishes it.
 // Any failure removes the temporary file and becomes one UserError naming path and the fix.
 void write_hdf5_atomically(const std::string& path, const std::function<void(hid_t file)>& fill);
+
+// The same for one file written by all ranks of comm together (collective: every rank calls it
+// with the same metadata; fill writes this rank's rows with the transfer list it is given). A
+// failure anywhere is a UserError on rank 0 and a PeerError on the others; rank 0 publishes.
+using ShareFill = std::function<void(hid_t file, hid_t transfer)>;
+void write_hdf5_atomically(const std::string& path, const Communicator& comm, const ShareFill& fill);
 
 // The same for a text file.
 void write_text_atomically(const std::string& path, const std::string& text);

@@ -14,7 +14,9 @@ namespace sphdisk {
 namespace {
 
 constexpr int kDim = 2;
-constexpr long long kFormatVersion = 1;
+// Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; still read.
+// Format 2: the row-sum checksum below, which ranks can compute on their own rows.
+constexpr long long kFormatVersion = 2;
 
 // FNV-1a, 64 bit: cheap and order-sensitive, enough to detect corruption (not tampering).
 struct Checksum {
@@ -25,6 +27,7 @@ struct Checksum {
   }
   void add(double v) { add(&v, sizeof v); }
   void add(long long v) { add(&v, sizeof v); }
+  void add(std::uint64_t v) { add(&v, sizeof v); }
 };
 
 template <class T>
@@ -34,7 +37,8 @@ std::size_t components() {
   else return 1;
 }
 
-void add_state(Checksum& c, const RunState& s) {
+std::uint64_t state_hash(const RunState& s) {
+  Checksum c;
   c.add(s.time);
   c.add(s.step);
   c.add(s.next_output);
@@ -43,15 +47,42 @@ void add_state(Checksum& c, const RunState& s) {
   c.add(s.smoothing_length);
   for (double v : s.integrator) c.add(v);
   c.add(s.config_toml.data(), s.config_toml.size());
+  return c.h;
+}
+
+// Format 2: the sum (mod 2^64) over checkpoint fields f and rows k of FNV-1a(f, k, row k's bytes).
+// Each row enters with its field and index, so swapped or shifted rows are caught, and the sum of
+// any split of the rows into shares is the same.
+template <class T>
+std::uint64_t row_sum(std::size_t field, std::size_t first_row, const std::vector<T>& rows) {
+  std::uint64_t sum = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    Checksum c;
+    c.add(static_cast<std::uint64_t>(field));
+    c.add(static_cast<std::uint64_t>(first_row + k));
+    c.add(&rows[k], sizeof(T));
+    sum += c.h;
+  }
+  return sum;
+}
+
+// Calls f(info, field, index) for each checkpoint field, index counting them in table order.
+template <class P, class F>
+void for_each_checkpoint_field(P& p, F&& f) {
+  std::size_t index = 0;
+  p.for_each_field([&](const FieldInfo& info, auto& field) {
+    if (info.flags & kCheckpoint) f(info, field, index++);
+  });
 }
 
 }  // namespace
 
-void write_checkpoint_blocks(const std::string& path, std::size_t n, const RunState& s, std::size_t blocks,
-                             const CheckpointBlock& block) {
-  Checksum sum;
-  add_state(sum, s);
-  write_hdf5_atomically(path, [&](hid_t file) {
+void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
+                            const Particles<2>& p, const RunState& s) {
+  std::uint64_t sum = 0;
+  for_each_checkpoint_field(p, [&](const FieldInfo&, const auto& field, std::size_t f) { sum += row_sum(f, first_row, field); });
+  std::uint64_t total = comm.sum(sum) + state_hash(s);  // unsigned: wraps mod 2^64 on every rank alike
+  write_hdf5_atomically(path, comm, [&](hid_t file, hid_t transfer) {
     h5::Handle g = h5::create_group(file, "Checkpoint");
     h5::write_attr(g, "FormatVersion", kFormatVersion);
     h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
@@ -65,48 +96,40 @@ void write_checkpoint_blocks(const std::string& path, std::size_t n, const RunSt
     h5::write_attr(g, "IntegratorStateSize", static_cast<long long>(s.integrator.size()));
     h5::write_attr(g, "Config", s.config_toml);
     h5::write_attr(g, "NumParticles", static_cast<long long>(n));
+    h5::write_attr(g, "Checksum", std::to_string(total));
     h5::Handle parts = h5::create_group(file, "Particles");
-    const Particles<kDim> none;
-    none.for_each_field([&](const FieldInfo& info, const auto& empty) {
-      if (!(info.flags & kCheckpoint)) return;
-      using T = typename std::decay_t<decltype(empty)>::value_type;
-      const std::string name(info.name);
+    for_each_checkpoint_field(p, [&](const FieldInfo& info, const auto& field, std::size_t) {
+      using T = typename std::decay_t<decltype(field)>::value_type;
       const bool ids = std::is_same_v<T, std::uint64_t>;
-      h5::Handle ds = h5::create_dataset(parts, name, ids, n, components<T>());
-      std::size_t row = 0;
-      for (std::size_t b = 0; b < blocks; ++b) {  // field-major, as the checksum runs
-        const Particles<kDim>& q = block(info.name, b);
-        const auto& field = [&]() -> const std::vector<T>& {
-          const std::vector<T>* f = nullptr;
-          q.for_each_field([&](const FieldInfo& i, const auto& v) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::vector<T>>)
-              if (i.name == info.name) f = &v;
-          });
-          return *f;
-        }();
-        sum.add(field.data(), field.size() * sizeof(T));
-        if constexpr (std::is_same_v<T, std::uint64_t>)
-          h5::write_rows(ds, field.data(), row, field.size());
-        else
-          h5::write_rows(ds, reinterpret_cast<const double*>(field.data()), row, field.size(), components<T>());
-        row += field.size();
-      }
-      if (row != n) throw UserError("checkpoint blocks hold " + std::to_string(row) + " particles, not " + std::to_string(n));
+      const h5::Handle ds = h5::create_dataset(parts, std::string(info.name), ids, n, components<T>());
+      if constexpr (std::is_same_v<T, std::uint64_t>)
+        h5::write_rows(ds, field.data(), first_row, field.size(), transfer);
+      else
+        h5::write_rows(ds, reinterpret_cast<const double*>(field.data()), first_row, field.size(), components<T>(), transfer);
     });
-    h5::write_attr(g, "Checksum", std::to_string(sum.h));
   });
 }
 
 void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
-  write_checkpoint_blocks(path, p.size(), s, 1, [&p](std::string_view, std::size_t) -> const Particles<2>& { return p; });
+  write_checkpoint_share(path, Communicator::self(), p.size(), 0, p, s);
 }
 
 namespace {
-Particles<2> read_checkpoint_unisolated(const std::string& path, RunState& s) {
+
+struct ReadShare {
+  Particles<2> particles;
+  long long version = 0;
+  std::uint64_t sum = 0;  // format 2: this share's row sum
+  std::string checksum;   // as stored
+};
+
+ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::RowShare share) {
   h5::Handle file = h5::open_file_readonly(path);
   h5::Handle g = h5::open_group(file, "Checkpoint", path);
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
-  if (num("FormatVersion") != static_cast<double>(kFormatVersion) || num("Dimension") != kDim)
+  ReadShare out;
+  out.version = static_cast<long long>(num("FormatVersion"));
+  if ((out.version != 1 && out.version != kFormatVersion) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   auto count = [&](const char* name) {  // a non-negative integer stored as a number
     const double v = num(name);
@@ -127,41 +150,60 @@ Particles<2> read_checkpoint_unisolated(const std::string& path, RunState& s) {
   s.integrator.resize(static_cast<std::size_t>(state_size));
   s.config_toml = h5::read_attr_string(g, "Config", path);
   const double n_attr = num("NumParticles");
+  out.checksum = h5::read_attr_string(g, "Checksum", path);
 
-  Checksum sum;
-  add_state(sum, s);
+  // Format 1's checksum runs through whole fields in order: read them whole, keep the share after.
+  const h5::RowShare read = out.version == 1 ? h5::RowShare{} : share;
+  Checksum sequential;
+  sequential.h = state_hash(s);  // format 1 hashed the state first, then the fields
   h5::Handle parts = h5::open_group(file, "Particles", path);
-  const std::size_t n = h5::read_dataset_u64(parts, "id", path).size();  // size-checked by the reader
+  std::size_t n = 0;
+  const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
-  Particles<2> p;
-  p.resize(n);
-  p.for_each_field([&](const FieldInfo& info, auto& field) {
-    if (!(info.flags & kCheckpoint)) return;
+  Particles<2>& p = out.particles;
+  p.resize(rows_read);
+  for_each_checkpoint_field(p, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     const std::string name(info.name);
+    std::size_t rows = 0, cols = 1;
     if constexpr (std::is_same_v<T, std::uint64_t>) {
-      field = h5::read_dataset_u64(parts, name, path);
+      field = h5::read_dataset_u64(parts, name, path, rows, read);
     } else {
-      std::size_t rows, cols;
-      const std::vector<double> raw = h5::read_dataset_doubles(parts, name, path, rows, cols);
-      if (rows != n || cols != components<T>()) throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong shape");
+      const std::vector<double> raw = h5::read_dataset_doubles(parts, name, path, rows, cols, read);
+      if (cols != components<T>() || raw.size() != rows_read * cols)
+        throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong shape");
       std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
     }
-    if (field.size() != n) throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");
-    sum.add(field.data(), field.size() * sizeof(T));
+    if (rows != n || field.size() != rows_read)
+      throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");
+    if (out.version == 1) sequential.add(field.data(), field.size() * sizeof(T));
+    else out.sum += row_sum(f, share.first(n), field);
   });
-  if (h5::read_attr_string(g, "Checksum", path) != std::to_string(sum.h))
-    throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
-  return p;
+  if (out.version == 1) {
+    if (out.checksum != std::to_string(sequential.h))
+      throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
+    std::vector<std::uint32_t> mine(share.count(n));
+    for (std::size_t k = 0; k < mine.size(); ++k) mine[k] = static_cast<std::uint32_t>(share.first(n) + k);
+    p.gather(mine);
+  }
+  return out;
 }
+
 }  // namespace
 
-Particles<2> read_checkpoint(const std::string& path, RunState& s) {
-  h5::isolate_library_crashes(path, [&] {
-    RunState tmp;
-    read_checkpoint_unisolated(path, tmp);
+Particles<2> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm) {
+  const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};
+  ReadShare got;
+  run_collectively(comm, [&] {
+    h5::isolate_library_crashes(path, [&] {
+      RunState tmp;
+      read_checkpoint_unisolated(path, tmp, share);
+    });
+    got = read_checkpoint_unisolated(path, s, share);
   });
-  return read_checkpoint_unisolated(path, s);
+  if (got.version != 1 && std::to_string(comm.sum(got.sum) + state_hash(s)) != got.checksum)
+    throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
+  return std::move(got.particles);
 }
 
 }  // namespace sphdisk

@@ -3,15 +3,15 @@
 // machines, thread and rank counts). Particles are stored in memory order (in ID order from a
 // distributed run) with every field flagged
 // kCheckpoint; the run state (time, step, next output, accretion tallies, integrator state) and the
-// resolved configuration are attributes. A 64-bit checksum over all of it detects corruption.
+// resolved configuration are attributes. A 64-bit checksum over all of it detects corruption; it is a
+// sum over rows (format 2), so ranks writing or reading their own rows can add theirs up.
 // Written atomically (temporary file, fsync, rename): the previous checkpoint stays intact until
 // the new one is complete.
-#include <functional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "core/particles.hpp"
+#include "parallel/communicator.hpp"
 
 namespace sphdisk {
 
@@ -28,14 +28,14 @@ struct RunState {
 
 void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s);
 
-// The same file from `blocks` consecutive blocks of particles, field by field: block(field, b)
-// returns block b with at least that field filled (a distributed run hands them over one rank at
-// a time, io/distributed_output.hpp). n: the total number of particles.
-using CheckpointBlock = std::function<const Particles<2>&(std::string_view field, std::size_t b)>;
-void write_checkpoint_blocks(const std::string& path, std::size_t n, const RunState& s, std::size_t blocks,
-                             const CheckpointBlock& block);
+// One checkpoint written by all ranks of comm together (collective): this rank's particles are rows
+// [first_row, first_row + p.size()) of the file's n.
+void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
+                            const Particles<2>& p, const RunState& s);
 
-// Throws UserError if the file is missing, truncated, corrupt (checksum) or not a checkpoint.
-Particles<2> read_checkpoint(const std::string& path, RunState& s);
+// Reads a checkpoint; on P ranks each rank reads share {rank, P} of the particles (1/P of the
+// rows; collective: the checksum is checked over all shares). Throws UserError on every rank if
+// the file is missing, truncated, corrupt (checksum) or not a checkpoint.
+Particles<2> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm = Communicator::self());
 
 }  // namespace sphdisk

@@ -1,8 +1,8 @@
 #pragma once
 // Snapshots and checkpoints of particles spread over MPI ranks, written without gathering them
-// anywhere: the particles are regrouped into ID ranges, and rank 0 writes the file one rank's range
-// at a time (memory O(N/P) on every rank). The files are the ones a single process writes (snapshots
-// byte for byte; checkpoints in ID order).
+// anywhere: the particles are regrouped into ID ranges, and every rank writes its range into the
+// one file collectively (MPI-IO; memory O(N/P) on every rank). The files are byte for byte the ones
+// a single process writes (checkpoints then in ID order).
 #include <string>
 
 #include "core/particles.hpp"
@@ -12,7 +12,7 @@
 
 namespace sphdisk {
 
-// Collective. A failure on rank 0 is rethrown there as UserError and as PeerError elsewhere.
+// Collective. A failure is a UserError on rank 0 and a PeerError elsewhere.
 template <int D>
 void write_snapshot(const Communicator& comm, const std::string& path, const Particles<D>& p, const SnapshotMeta& meta);
 

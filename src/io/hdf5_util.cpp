@@ -61,9 +61,9 @@ void silence_errors() {
   (void)done;
 }
 
-Handle create_file(const std::string& path) {
+Handle create_file(const std::string& path, hid_t access) {
   silence_errors();
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose);
   if (!f.valid()) fail("cannot create HDF5 file '" + path + "': check that the directory exists and is writable");
   return f;
 }
@@ -150,32 +150,39 @@ double read_attr_double(hid_t obj, const std::string& name, const std::string& f
 Handle create_dataset(hid_t group, const std::string& name, bool u64, std::size_t rows, std::size_t cols) {
   const hsize_t dims[2] = {rows, cols};
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
-  Handle ds(H5Dcreate2(group, name.c_str(), u64 ? H5T_STD_U64LE : H5T_IEEE_F64LE, space, H5P_DEFAULT,
-                       untimed(H5P_DATASET_CREATE), H5P_DEFAULT),
+  // Space allocated at creation and never filled: what the MPI-IO driver requires, set for one process
+  // too so that both write the same bytes.
+  Handle props = untimed(H5P_DATASET_CREATE);
+  H5Pset_alloc_time(props, H5D_ALLOC_TIME_EARLY);
+  H5Pset_fill_time(props, H5D_FILL_TIME_NEVER);
+  Handle ds(H5Dcreate2(group, name.c_str(), u64 ? H5T_STD_U64LE : H5T_IEEE_F64LE, space, H5P_DEFAULT, props, H5P_DEFAULT),
             H5Dclose);
   if (!ds.valid()) fail("HDF5 could not create dataset '" + name + "'");
   return ds;
 }
 
 namespace {
-void write_rows(hid_t ds, hid_t mem_type, const void* data, std::size_t first_row, std::size_t rows, std::size_t cols) {
-  if (rows == 0) return;
+// Every rank of a collective transfer calls this, with rows = 0 if it has none.
+void write_rows(hid_t ds, hid_t mem_type, const void* data, std::size_t first_row, std::size_t rows, std::size_t cols,
+                hid_t transfer) {
+  if (rows == 0 && transfer == H5P_DEFAULT) return;
   Handle file_space(H5Dget_space(ds), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(file_space);
-  const hsize_t start[2] = {first_row, 0}, count[2] = {rows, cols};
-  Handle mem_space(H5Screate_simple(rank, count, nullptr), H5Sclose);
-  if (H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
-      H5Dwrite(ds, mem_type, mem_space, file_space, H5P_DEFAULT, data) < 0)
+  const hsize_t start[2] = {first_row, 0}, count[2] = {rows, cols}, one[2] = {1, cols};
+  Handle mem_space(H5Screate_simple(rank, rows == 0 ? one : count, nullptr), H5Sclose);
+  const bool selected = rows == 0 ? H5Sselect_none(file_space) >= 0 && H5Sselect_none(mem_space) >= 0
+                                  : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
+  if (!selected || H5Dwrite(ds, mem_type, mem_space, file_space, transfer, data) < 0)
     fail("HDF5 could not write rows " + std::to_string(first_row) + "+" + std::to_string(rows) + " of a dataset");
 }
 }  // namespace
 
-void write_rows(hid_t ds, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols) {
-  write_rows(ds, H5T_NATIVE_DOUBLE, data, first_row, rows, cols);
+void write_rows(hid_t ds, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols, hid_t transfer) {
+  write_rows(ds, H5T_NATIVE_DOUBLE, data, first_row, rows, cols, transfer);
 }
 
-void write_rows(hid_t ds, const std::uint64_t* data, std::size_t first_row, std::size_t rows) {
-  write_rows(ds, H5T_NATIVE_UINT64, data, first_row, rows, 1);
+void write_rows(hid_t ds, const std::uint64_t* data, std::size_t first_row, std::size_t rows, hid_t transfer) {
+  write_rows(ds, H5T_NATIVE_UINT64, data, first_row, rows, 1, transfer);
 }
 
 void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols) {
@@ -187,7 +194,8 @@ void write_dataset(hid_t group, const std::string& name, const std::uint64_t* da
 }
 
 namespace {
-Handle open_dataset_shape(hid_t group, const std::string& name, const std::string& file, std::size_t& rows, std::size_t& cols) {
+Handle open_dataset_shape(hid_t group, const std::string& name, const std::string& file, std::size_t& rows, std::size_t& cols,
+                          RowShare share) {
   if (!exists(group, name)) fail("'" + file + "' has no dataset '" + name + "'");
   Handle ds(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
   if (!ds.valid()) fail("'" + file + "': cannot open dataset '" + name + "' (file corrupt?)");
@@ -199,31 +207,46 @@ Handle open_dataset_shape(hid_t group, const std::string& name, const std::strin
   rows = dims[0];
   cols = rank == 2 ? dims[1] : 1;
   // A corrupt header can claim any size: refuse what could not fit in memory before allocating.
-  const double bytes = static_cast<double>(rows) * static_cast<double>(cols) * 8.0;
+  const double bytes = static_cast<double>(share.count(rows)) * static_cast<double>(cols) * 8.0;
   const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
   if (cols > 64 || bytes > 0.5 * memory)
     fail("'" + file + "': dataset '" + name + "' claims " + std::to_string(rows) + " x " + std::to_string(cols) +
          " values, more than this machine can hold (corrupt file?)");
   return ds;
 }
+
+// Reads the share's rows of ds into out (sized share.count(rows) x cols).
+template <class T>
+void read_share(hid_t ds, hid_t mem_type, std::size_t rows, std::size_t cols, RowShare share, std::vector<T>& out,
+                const std::string& name, const std::string& file) {
+  const std::size_t count = share.count(rows);
+  out.resize(count * cols);
+  if (count == 0) return;
+  Handle file_space(H5Dget_space(ds), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(file_space);
+  const hsize_t start[2] = {share.first(rows), 0}, shape[2] = {count, cols};
+  Handle mem_space(H5Screate_simple(rank, shape, nullptr), H5Sclose);
+  if (H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, shape, nullptr) < 0 ||
+      H5Dread(ds, mem_type, mem_space, file_space, H5P_DEFAULT, out.data()) < 0)
+    fail("'" + file + "': cannot read dataset '" + name + "' (truncated or corrupt file?)");
+}
 }  // namespace
 
 std::vector<double> read_dataset_doubles(hid_t group, const std::string& name, const std::string& file,
-                                         std::size_t& rows, std::size_t& cols) {
-  Handle ds = open_dataset_shape(group, name, file, rows, cols);
-  std::vector<double> v(rows * cols);
-  if (!v.empty() && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    fail("'" + file + "': cannot read dataset '" + name + "' (truncated or corrupt file?)");
+                                         std::size_t& rows, std::size_t& cols, RowShare share) {
+  Handle ds = open_dataset_shape(group, name, file, rows, cols, share);
+  std::vector<double> v;
+  read_share(ds, H5T_NATIVE_DOUBLE, rows, cols, share, v, name, file);
   return v;
 }
 
-std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file) {
-  std::size_t rows, cols;
-  Handle ds = open_dataset_shape(group, name, file, rows, cols);
+std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file,
+                                            std::size_t& rows, RowShare share) {
+  std::size_t cols;
+  Handle ds = open_dataset_shape(group, name, file, rows, cols, share);
   if (cols != 1) fail("'" + file + "': dataset '" + name + "' must be 1-D");
-  std::vector<std::uint64_t> v(rows);
-  if (!v.empty() && H5Dread(ds, H5T_NATIVE_UINT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    fail("'" + file + "': cannot read dataset '" + name + "' (truncated or corrupt file?)");
+  std::vector<std::uint64_t> v;
+  read_share(ds, H5T_NATIVE_UINT64, rows, cols, share, v, name, file);
   return v;
 }
 

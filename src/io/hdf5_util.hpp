@@ -46,7 +46,8 @@ void silence_errors();  // turn off HDF5's automatic error stack printing (once 
 // in this process to report.
 void isolate_library_crashes(const std::string& path, const std::function<void()>& read_all);
 
-Handle create_file(const std::string& path);
+// access: a file-access property list (shared_file_access: one file written by all ranks).
+Handle create_file(const std::string& path, hid_t access = H5P_DEFAULT);
 Handle open_file_readonly(const std::string& path);  // throws UserError naming the path
 Handle create_group(hid_t parent, const std::string& name);
 Handle open_group(hid_t parent, const std::string& name, const std::string& file);  // throws if missing
@@ -65,16 +66,28 @@ std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const 
 std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file);  // fixed-length strings
 
 // Datasets of doubles/uint64 with shape rows x cols (cols == 1: a 1-D dataset), created whole and
-// written in blocks of consecutive rows.
+// written in blocks of consecutive rows. With a collective transfer list (shared_transfer) every
+// rank writes its own block, and every rank must call write_rows (rows = 0 if it has none).
 Handle create_dataset(hid_t group, const std::string& name, bool u64, std::size_t rows, std::size_t cols);
-void write_rows(hid_t dataset, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols);
-void write_rows(hid_t dataset, const std::uint64_t* data, std::size_t first_row, std::size_t rows);
+void write_rows(hid_t dataset, const double* data, std::size_t first_row, std::size_t rows, std::size_t cols,
+                hid_t transfer = H5P_DEFAULT);
+void write_rows(hid_t dataset, const std::uint64_t* data, std::size_t first_row, std::size_t rows,
+                hid_t transfer = H5P_DEFAULT);
 void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows, std::size_t cols);
 void write_dataset(hid_t group, const std::string& name, const std::uint64_t* data, std::size_t rows);
-// Reads a dataset as doubles (or uint64); checks the shape (cols = 0: any second dimension allowed,
-// returned through cols_out).
+// Share `part` of `parts` of a dataset's n rows: rows [n part / parts, n (part + 1) / parts), so
+// that each of P ranks reads 1/P of a file (the default share is the whole dataset).
+struct RowShare {
+  std::size_t part = 0, parts = 1;
+  std::size_t first(std::size_t n) const { return n / parts * part + n % parts * part / parts; }
+  std::size_t count(std::size_t n) const { return RowShare{part + 1, parts}.first(n) - first(n); }
+};
+
+// Reads the share's rows of a dataset as doubles (or uint64); rows and cols return the dataset's
+// whole shape (rows of all shares).
 std::vector<double> read_dataset_doubles(hid_t group, const std::string& name, const std::string& file,
-                                         std::size_t& rows, std::size_t& cols);
-std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file);
+                                         std::size_t& rows, std::size_t& cols, RowShare share = {});
+std::vector<std::uint64_t> read_dataset_u64(hid_t group, const std::string& name, const std::string& file,
+                                            std::size_t& rows, RowShare share = {});
 
 }  // namespace sphdisk::h5

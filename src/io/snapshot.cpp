@@ -91,12 +91,13 @@ constexpr std::size_t snapshot_columns() {
 
 // Rows order[0..n) of one field, flattened to doubles (or IDs).
 template <int D, class T>
-void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<std::size_t>& order, std::size_t first_row) {
+void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<std::size_t>& order, std::size_t first_row,
+                      hid_t transfer) {
   const std::size_t n = order.size();
   if constexpr (std::is_same_v<T, std::uint64_t>) {
     std::vector<std::uint64_t> out(n);
     for (std::size_t k = 0; k < n; ++k) out[k] = field[order[k]];
-    h5::write_rows(ds, out.data(), first_row, n);
+    h5::write_rows(ds, out.data(), first_row, n, transfer);
   } else {
     constexpr std::size_t cols = snapshot_columns<T, D>();
     std::vector<double> flat(n * cols, 0.0);
@@ -107,7 +108,7 @@ void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<s
         for (int c = 0; c < D; ++c) flat[3 * k + static_cast<std::size_t>(c)] = v[c];
       else std::copy(v.c.begin(), v.c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * cols));
     }
-    h5::write_rows(ds, flat.data(), first_row, n, cols);
+    h5::write_rows(ds, flat.data(), first_row, n, cols, transfer);
   }
 }
 
@@ -122,30 +123,20 @@ double snapshot_box_size(const Particles<D>& p) {
 }
 
 template <int D>
-void write_snapshot_blocks(const std::string& path, std::size_t n, const SnapshotMeta& meta,
-                           const std::function<bool(SnapshotBlock<D>&)>& next_block) {
-  write_hdf5_atomically(path, [&](hid_t file) {
+void write_snapshot_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
+                          const Particles<D>& particles, const std::vector<std::size_t>& order, const SnapshotMeta& meta) {
+  write_hdf5_atomically(path, comm, [&](hid_t file, hid_t transfer) {
     write_header(file, n, D, meta);
     write_units(file, meta.units);
     write_parameters(file, meta);
     h5::Handle g = h5::create_group(file, "PartType0");
-    std::vector<h5::Handle> datasets;
-    const Particles<D> none;
-    none.for_each_field([&](const FieldInfo& info, const auto& field) {
+    particles.for_each_field([&](const FieldInfo& info, const auto& field) {
       using T = typename std::decay_t<decltype(field)>::value_type;
-      if (in_snapshot(info, meta))
-        datasets.push_back(h5::create_dataset(g, std::string(info.dataset), std::is_same_v<T, std::uint64_t>, n,
-                                              snapshot_columns<T, D>()));
+      if (!in_snapshot(info, meta)) return;
+      const h5::Handle ds = h5::create_dataset(g, std::string(info.dataset), std::is_same_v<T, std::uint64_t>, n,
+                                               snapshot_columns<T, D>());
+      write_field_rows<D>(ds, field, order, first_row, transfer);
     });
-    std::size_t row = 0;
-    for (SnapshotBlock<D> block; next_block(block);) {
-      std::size_t k = 0;
-      block.particles->for_each_field([&](const FieldInfo& info, const auto& field) {
-        if (in_snapshot(info, meta)) write_field_rows<D>(datasets[k++], field, *block.order, row);
-      });
-      row += block.order->size();
-    }
-    if (row != n) throw UserError("snapshot blocks hold " + std::to_string(row) + " particles, not " + std::to_string(n));
   });
 }
 
@@ -156,16 +147,13 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   SnapshotMeta m = meta;
   m.box_size = std::max(m.box_size, snapshot_box_size(p));
-  bool done = false;
-  write_snapshot_blocks<D>(path, p.size(), m, [&](SnapshotBlock<D>& b) {
-    b = SnapshotBlock<D>{&p, &order};
-    return !std::exchange(done, true);
-  });
+  write_snapshot_share(path, Communicator::self(), p.size(), 0, p, order, m);
 }
 
 namespace {
 template <int D>
-Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
+Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta,
+                                      h5::RowShare share) {
   h5::Handle file = h5::open_file_readonly(path);
   h5::Handle header = h5::open_group(file, "Header", path);
   meta.time = h5::read_attr_double(header, "Time", path);
@@ -197,7 +185,8 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
 
   h5::Handle g = h5::open_group(file, "PartType0", path);
   Particles<D> p;
-  const std::vector<std::uint64_t> ids = h5::read_dataset_u64(g, "ParticleIDs", path);
+  std::size_t n_file = 0;
+  const std::vector<std::uint64_t> ids = h5::read_dataset_u64(g, "ParticleIDs", path, n_file, share);
   const std::size_t n = ids.size();
   p.resize(n);
   p.id = ids;
@@ -213,9 +202,9 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
         return;
       }
       std::size_t rows, cols;
-      const std::vector<double> raw = h5::read_dataset_doubles(g, name, path, rows, cols);
-      if (rows != n)
-        throw UserError("'" + path + "': PartType0/" + name + " has " + std::to_string(rows) + " rows but ParticleIDs has " + std::to_string(n));
+      const std::vector<double> raw = h5::read_dataset_doubles(g, name, path, rows, cols, share);
+      if (rows != n_file)
+        throw UserError("'" + path + "': PartType0/" + name + " has " + std::to_string(rows) + " rows but ParticleIDs has " + std::to_string(n_file));
       const double scale = std::pow(fl, info.length_exp) * std::pow(fm, info.mass_exp) * std::pow(ft, info.time_exp);
       for (double v : raw)
         if (!std::isfinite(v)) throw UserError("'" + path + "': PartType0/" + name + " contains NaN or Inf");
@@ -234,7 +223,7 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
       }
     }
   });
-  // IDs must be unique: they label particles through the run.
+  // IDs must be unique: they label particles through the run (here within the share).
   std::vector<std::uint64_t> sorted = ids;
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
@@ -246,23 +235,23 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
 }  // namespace
 
 template <int D>
-Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta) {
+Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta, h5::RowShare share) {
   h5::isolate_library_crashes(path, [&] {
     SnapshotMeta m;
-    read_snapshot_unisolated<D>(path, code_units, m);
+    read_snapshot_unisolated<D>(path, code_units, m, share);
   });
-  return read_snapshot_unisolated<D>(path, code_units, meta);
+  return read_snapshot_unisolated<D>(path, code_units, meta, share);
 }
 
 template double snapshot_box_size(const Particles<2>&);
 template double snapshot_box_size(const Particles<3>&);
-template void write_snapshot_blocks(const std::string&, std::size_t, const SnapshotMeta&,
-                                    const std::function<bool(SnapshotBlock<2>&)>&);
-template void write_snapshot_blocks(const std::string&, std::size_t, const SnapshotMeta&,
-                                    const std::function<bool(SnapshotBlock<3>&)>&);
+template void write_snapshot_share(const std::string&, const Communicator&, std::size_t, std::size_t, const Particles<2>&,
+                                   const std::vector<std::size_t>&, const SnapshotMeta&);
+template void write_snapshot_share(const std::string&, const Communicator&, std::size_t, std::size_t, const Particles<3>&,
+                                   const std::vector<std::size_t>&, const SnapshotMeta&);
 template void write_snapshot(const std::string&, const Particles<2>&, const SnapshotMeta&);
 template void write_snapshot(const std::string&, const Particles<3>&, const SnapshotMeta&);
-template Particles<2> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&);
-template Particles<3> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&);
+template Particles<2> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&, h5::RowShare);
+template Particles<3> read_snapshot(const std::string&, const UnitSystem*, SnapshotMeta&, h5::RowShare);
 
 }  // namespace sphdisk

@@ -3,13 +3,14 @@
 // h5py tools. Datasets come from the particle field table (fields flagged kSnapshot); particles
 // are written in ID order, so the file does not depend on memory order, threads or ranks.
 // Files are written atomically: to a temporary name, flushed to disk, then renamed.
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
 #include "core/units.hpp"
+#include "io/hdf5_util.hpp"
+#include "parallel/communicator.hpp"
 
 namespace sphdisk {
 
@@ -31,26 +32,23 @@ struct SnapshotMeta {
 template <int D>
 void write_snapshot(const std::string& path, const Particles<D>& p, const SnapshotMeta& meta);
 
-// The same file written from consecutive blocks of particles in ascending ID order (a distributed
-// run hands them over one rank at a time, so no process holds all particles). next_block fills the
-// next block and returns true, or returns false when all n particles were given; meta.box_size is
-// written as given (snapshot_box_size of all particles).
+// One snapshot written by all ranks of comm together (collective). This rank's rows are
+// [first_row, first_row + order.size()) of the file's n: particles[order[0]], particles[order[1]], ...;
+// the ranks' rows tile [0, n) in ascending ID order. meta.box_size is written as given
+// (snapshot_box_size of all particles).
 template <int D>
-struct SnapshotBlock {
-  const Particles<D>* particles = nullptr;
-  const std::vector<std::size_t>* order = nullptr;  // the block's rows: particles[order[0]], ...
-};
-template <int D>
-void write_snapshot_blocks(const std::string& path, std::size_t n, const SnapshotMeta& meta,
-                           const std::function<bool(SnapshotBlock<D>&)>& next_block);
+void write_snapshot_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
+                          const Particles<D>& particles, const std::vector<std::size_t>& order, const SnapshotMeta& meta);
 template <int D>
 double snapshot_box_size(const Particles<D>& p);
 
-// Reads a snapshot. With code_units given and a /Units group in the file, values are converted to
-// those code units; with nullptr (or no /Units) they are kept as stored. Throws UserError naming
-// what is wrong.
+// Reads a snapshot's particles, or one share of them (each of P ranks reads 1/P of the rows). With
+// code_units given and a /Units group in the file, values are converted to those code units; with
+// nullptr (or no /Units) they are kept as stored. Throws UserError naming what is wrong. IDs are
+// checked to be unique within what was read (across shares: ids_unique in the domain).
 template <int D>
-Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta);
+Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta,
+                           h5::RowShare share = {});
 
 
 }  // namespace sphdisk

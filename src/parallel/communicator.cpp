@@ -53,6 +53,9 @@ std::uint64_t Communicator::sum(std::uint64_t x) const {
 }
 void Communicator::min(std::span<double> x) const { all_reduce(handle_, size_, x.data(), x.size(), MPI_DOUBLE, MPI_MIN); }
 void Communicator::max(std::span<double> x) const { all_reduce(handle_, size_, x.data(), x.size(), MPI_DOUBLE, MPI_MAX); }
+void Communicator::max(std::span<std::uint64_t> x) const {
+  all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_MAX);
+}
 void Communicator::sum(std::span<std::uint64_t> x) const {
   all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_SUM);
 }
@@ -178,6 +181,7 @@ double Communicator::max(double x) const { return x; }
 std::uint64_t Communicator::sum(std::uint64_t x) const { return x; }
 void Communicator::min(std::span<double>) const {}
 void Communicator::max(std::span<double>) const {}
+void Communicator::max(std::span<std::uint64_t>) const {}
 void Communicator::sum(std::span<std::uint64_t>) const {}
 bool Communicator::any(bool x) const { return x; }
 void Communicator::bit_or(std::span<std::uint64_t>) const {}

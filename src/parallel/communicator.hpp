@@ -33,6 +33,7 @@ class Communicator {
   // Element-wise over all ranks, in place.
   void min(std::span<double> x) const;
   void max(std::span<double> x) const;
+  void max(std::span<std::uint64_t> x) const;
   void sum(std::span<std::uint64_t> x) const;
   void bit_or(std::span<std::uint64_t> x) const;
   // Sum of one value per rank, added in rank order on every rank: the same bits on every rank for a
@@ -53,6 +54,10 @@ class Communicator {
   std::vector<std::byte> receive_from(int from) const;
   std::vector<std::byte> receive_from_any(int& from) const;
 
+  // The MPI_Comm (as MPI_Comm*) for MPI-aware libraries set up in the parallel layer (the MPI-IO
+  // file driver: parallel/shared_file.cpp); null for a communicator of one rank without MPI.
+  void* native_handle() const { return handle_; }
+
  private:
   Communicator(int rank, int size, void* handle) : rank_(rank), size_(size), handle_(handle) {}
   int rank_ = 0, size_ = 1;
@@ -72,22 +77,30 @@ class MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 };
 
-// Runs `f` on rank 0 only (files are written there); a UserError there stops every rank: rank 0
-// rethrows it, the others throw PeerError (they stop quietly: rank 0 has reported it). Collective.
+// Runs `f` on every rank; a UserError on any rank stops every rank: rank 0 throws UserError with
+// the message of the lowest failing rank, the others throw PeerError (they stop quietly: rank 0
+// reports it). Collective; `f` must not call collectives after it throws.
+template <class F>
+void run_collectively(const Communicator& comm, F&& f) {
+  std::string error;
+  try {
+    f();
+  } catch (const UserError& e) {
+    error = e.what();
+  }
+  if (!comm.any(!error.empty())) return;
+  const std::vector<std::string> errors = comm.gather_to_root(error);
+  if (!comm.is_root()) throw PeerError(error.empty() ? "another rank failed" : error);
+  for (const std::string& e : errors)
+    if (!e.empty()) throw UserError(e);
+}
+
+// Runs `f` on rank 0 only (files written by one process), with run_collectively's error hand-off.
 template <class F>
 void run_on_root(const Communicator& comm, F&& f) {
-  std::string error;
-  if (comm.is_root()) {
-    try {
-      f();
-    } catch (const UserError& e) {
-      error = e.what();
-    }
-  }
-  if (comm.any(!error.empty())) {
-    if (comm.is_root()) throw UserError(error);
-    throw PeerError("rank 0 failed: " + error);
-  }
+  run_collectively(comm, [&] {
+    if (comm.is_root()) f();
+  });
 }
 
 // Aborts every rank (a rank that fails alone would leave the others waiting forever).

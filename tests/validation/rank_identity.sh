@@ -43,6 +43,27 @@ else
   echo "DIFFERENT: started from a snapshot file, one process vs 2 ranks"; fail=1
 fi
 
+# A repeated particle ID in a file read as two shares (first and last row: on different ranks)
+# is found by the distributed check: a one-line error, exit 2, nothing written.
+cp "$work/adaptive/serial/snapshot_001.hdf5" "$work/dup.hdf5"
+/usr/bin/python3 -c "
+import h5py, sys
+with h5py.File(sys.argv[1], 'r+') as f:
+    ids = f['PartType0/ParticleIDs']
+    ids[-1] = ids[0]
+" "$work/dup.hdf5"
+set +e
+err=$("$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 "$sphdisk" run -q \
+      --set "problem.initial_conditions=\"$work/dup.hdf5\"" --set 'output.tau=[0.019]' \
+      "$(dirname "$0")/small_ring.toml" --output "$work/dup_run" 2>&1 > /dev/null)
+code=$?
+set -e
+if [ $code -eq 2 ] && grep -q "ParticleIDs are not unique" <<< "$err" && [ ! -e "$work/dup_run" ]; then
+  echo "repeated ID across ranks: refused (exit 2, one line, no output)"
+else
+  echo "repeated ID across ranks: NOT refused as expected (exit $code): $err"; fail=1
+fi
+
 # The trace of a 2-rank x 2-thread run has one process track per rank, each with its threads and
 # the communication phase.
 "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=2 \

@@ -1,0 +1,147 @@
+// Checkpoints: bit-exact round trip of particles and run state; the row-sum checksum (format 2)
+// catches changed and swapped rows; files of format 1 (one FNV-1a hash over the fields in order,
+// written before 2026-11-29) are still read, with their own checksum checked. The format-1 hash is
+// written here independently of the reader.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+#include "io/hdf5_util.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_file(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("sphdisk_ckpt_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d / name;
+}
+
+Particles<2> sample_particles() {
+  auto p = test::random_particles<2>(500, 11, false);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.h[i] = 0.02 + 1e-6 * static_cast<double>(i);
+    p.mass[i] = 1e-3 * static_cast<double>(1 + i % 7);  // distinct neighbours: a swap changes the rows
+    p.u[i] = 0.5 * static_cast<double>(i % 5);
+    p.du_dt[i] = -1e-3 * static_cast<double>(i % 3);
+    p.acc[i] = Vec<2>{{1e-3 * static_cast<double>(i), -2e-3}};
+  }
+  return p;
+}
+
+RunState sample_state() {
+  RunState s;
+  s.time = 0.123;
+  s.step = 77;
+  s.next_output = 2;
+  s.accreted_mass = 1e-4;
+  s.accreted_angular_momentum = 2e-4;
+  s.smoothing_length = 0.03;
+  s.integrator = {0.5, 0.25};
+  s.config_toml = "[problem]\nparticles = 500\n";
+  return s;
+}
+
+template <class T>
+void expect_same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(T)));
+}
+
+// Format 1's checksum, as its writer computed it: FNV-1a over the state, then over every
+// checkpoint field's bytes in table order.
+std::string format1_checksum(const Particles<2>& p, const RunState& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  for (const double v : {s.time}) add(&v, 8);
+  for (const long long v : {s.step, s.next_output}) add(&v, 8);
+  for (const double v : {s.accreted_mass, s.accreted_angular_momentum, s.smoothing_length}) add(&v, 8);
+  for (const double v : s.integrator) add(&v, 8);
+  add(s.config_toml.data(), s.config_toml.size());
+  p.for_each_field([&](const FieldInfo& info, const auto& field) {
+    if (info.flags & kCheckpoint) add(field.data(), field.size() * sizeof(field[0]));
+  });
+  return std::to_string(h);
+}
+
+void set_attrs(const fs::path& path, long long version, const std::string& checksum) {
+  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+  h5::write_attr(g, "FormatVersion", version);
+  h5::write_attr(g, "Checksum", checksum);
+}
+
+void overwrite_mass_row(const fs::path& path, std::size_t row, double value) {
+  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  h5::Handle ds(H5Dopen2(f, "Particles/mass", H5P_DEFAULT), H5Dclose);
+  h5::write_rows(ds, &value, row, 1, 1);
+}
+
+}  // namespace
+
+TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
+  const Particles<2> p = sample_particles();
+  const RunState s = sample_state();
+  const fs::path path = temp_file("round_trip.h5");
+  write_checkpoint(path.string(), p, s);
+  RunState r;
+  const Particles<2> q = read_checkpoint(path.string(), r);
+  expect_same_bits(p.id, q.id);
+  expect_same_bits(p.mass, q.mass);
+  expect_same_bits(p.pos, q.pos);
+  expect_same_bits(p.vel, q.vel);
+  expect_same_bits(p.u, q.u);
+  expect_same_bits(p.h, q.h);
+  expect_same_bits(p.acc, q.acc);
+  expect_same_bits(p.du_dt, q.du_dt);
+  EXPECT_EQ(r.time, s.time);
+  EXPECT_EQ(r.step, s.step);
+  EXPECT_EQ(r.next_output, s.next_output);
+  EXPECT_EQ(r.integrator, s.integrator);
+  EXPECT_EQ(r.config_toml, s.config_toml);
+}
+
+TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
+  const Particles<2> p = sample_particles();
+  const fs::path path = temp_file("swapped.h5");
+  write_checkpoint(path.string(), p, sample_state());
+  // Swapping two masses keeps every sum over values; the row index in each term catches it.
+  overwrite_mass_row(path, 3, p.mass[4]);
+  overwrite_mass_row(path, 4, p.mass[3]);
+  RunState r;
+  try {
+    read_checkpoint(path.string(), r);
+    ADD_FAILURE() << "swapped rows were accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum mismatch"), std::string::npos) << e.what();
+  }
+  overwrite_mass_row(path, 3, p.mass[3]);
+  overwrite_mass_row(path, 4, p.mass[4]);
+  EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+}
+
+TEST(Checkpoint, FormatOneFilesAreStillReadAndChecked) {
+  const Particles<2> p = sample_particles();
+  const RunState s = sample_state();
+  const fs::path path = temp_file("format1.h5");
+  write_checkpoint(path.string(), p, s);
+  set_attrs(path, 1, format1_checksum(p, s));
+  RunState r;
+  const Particles<2> q = read_checkpoint(path.string(), r);
+  expect_same_bits(p.pos, q.pos);
+  expect_same_bits(p.du_dt, q.du_dt);
+  EXPECT_EQ(r.step, s.step);
+  overwrite_mass_row(path, 10, 2.0 * p.mass[10]);
+  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+}
