@@ -331,6 +331,7 @@ class Runner {
     std::ostringstream os;
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
        << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
+       << ", \"decompositions\": " << domain_.recuts() << ", \"count_imbalance\": " << domain_.imbalance()
        << ", \"timers\": " << timers_.json().substr(0, timers_.json().size() - 1) << "}";
     const std::vector<std::string> all = domain_.comm().gather_to_root(os.str());
     std::string out = "[\n";
@@ -360,7 +361,7 @@ class Runner {
   Particles<kDim> p_;
   RunState s_;
   PhaseTimers timers_;
-  DistributedDomain<kDim> domain_{opts_.one_process ? Communicator::self() : Communicator::world()};
+  DistributedDomain<kDim> domain_{opts_.one_process ? Communicator::self() : Communicator::world(), cfg_.rebalance_threshold};
   RateEvaluator<kDim> rates_;
   std::unique_ptr<Integrator<kDim>> integrator_;
   std::vector<double> t_out_;

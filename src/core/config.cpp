@@ -167,6 +167,7 @@ const std::vector<KeyDef>& schema() {
       int_key("run.threads", &Config::threads, 0, 4096, "threads (0: OpenMP default, e.g. OMP_NUM_THREADS)"),
       int_key("run.inject_nan_at_step", &Config::inject_nan_at_step, 0, (1LL << 62), "testing aid: make one velocity NaN at this step to exercise the fault handling (0: off)"),
       int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),
+      float_key("run.rebalance_threshold", &Config::rebalance_threshold, in_range(1, 100), "over MPI ranks: the domains are cut anew when the largest rank's particle count over the mean passes this (1: every step)"),
   };
   return keys;
 }

@@ -51,6 +51,7 @@ struct Config {
   // [run]
   int threads = 0;                 // 0: OpenMP default
   long long max_steps = 0;         // 0: no limit
+  double rebalance_threshold = 1.05;  // MPI: re-cut the domains when largest rank / mean count passes this
   long long inject_nan_at_step = 0;  // testing aid for the fault path; 0: off
 
   std::string resolved_toml;       // every key = value, for outputs

@@ -301,7 +301,21 @@ void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldName
 template <int D>
 void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
   if (comm_.size() == 1) return;
-  migrate(comm_, decompose(comm_, p, min_cell_size, top_cells_per_rank_), p);
+  auto imbalance_of = [&](const Decomposition<D>& d) {
+    std::vector<std::uint64_t> counts(static_cast<std::size_t>(comm_.size()), 0);
+    for (const Vec<D>& x : p.pos) ++counts[static_cast<std::size_t>(d.owner_of(x))];
+    comm_.sum(counts);
+    const std::uint64_t total = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
+    return static_cast<double>(*std::max_element(counts.begin(), counts.end())) * static_cast<double>(counts.size()) /
+           static_cast<double>(std::max<std::uint64_t>(total, 1));
+  };
+  if (owners_) imbalance_ = imbalance_of(*owners_);  // particles outside the old lattice go to its edge cells
+  if (!owners_ || imbalance_ > threshold_) {
+    owners_ = decompose(comm_, p, min_cell_size, top_cells_per_rank_);
+    imbalance_ = imbalance_of(*owners_);
+    ++recuts_;
+  }
+  migrate(comm_, *owners_, p);
 }
 
 template <int D>

@@ -11,6 +11,7 @@
 // values before any owned particle reads them.
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -73,11 +74,18 @@ class Halo {
 template <int D>
 class DistributedDomain final : public ParticleDomain<D> {
  public:
-  explicit DistributedDomain(Communicator comm, std::size_t top_cells_per_rank = 256)
-      : comm_(comm), top_cells_per_rank_(top_cells_per_rank) {}
+  // threshold: the particle-count imbalance (largest rank / mean) above which rebalance() cuts the
+  // top cells anew (SWIFT's domain-decomposition trigger plays the same role).
+  explicit DistributedDomain(Communicator comm, double threshold = 1.05, std::size_t top_cells_per_rank = 256)
+      : comm_(comm), threshold_(threshold), top_cells_per_rank_(top_cells_per_rank) {}
 
-  // New owners for equal particle counts, and the particles sent to them (between steps).
+  // Between steps: sends every particle to the owner of its top cell. The owners stay as they are
+  // while the counts they give stay within the threshold; past it (and the first time) the top
+  // cells are cut anew into runs of equal particle count. Collective; the decision uses exact
+  // global counts, so every rank takes it alike, and results never depend on it.
   void rebalance(Particles<D>& p, double min_cell_size);
+  std::size_t recuts() const { return recuts_; }           // decompositions made so far
+  double imbalance() const { return imbalance_; }           // of the owners used at the last rebalance
 
   Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need, const RadiusOf& reach) override;
   double kth_smallest(const std::vector<double>& values, std::uint64_t k) const override;
@@ -93,8 +101,12 @@ class DistributedDomain final : public ParticleDomain<D> {
 
  private:
   Communicator comm_;
+  double threshold_;
   std::size_t top_cells_per_rank_;
   Halo<D> halo_;
+  std::optional<Decomposition<D>> owners_;
+  std::size_t recuts_ = 0;
+  double imbalance_ = 1;
 };
 
 }  // namespace sphdisk

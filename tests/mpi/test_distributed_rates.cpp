@@ -65,7 +65,7 @@ void expect_distributed_equals_serial(const PhysicsParams& phys, std::size_t n, 
     if (static_cast<int>(i % static_cast<std::size_t>(comm.size())) == comm.rank()) mine.push_back(static_cast<std::uint32_t>(i));
   p.gather(mine);
 
-  DistributedDomain<2> domain(comm, top_cells_per_rank);
+  DistributedDomain<2> domain(comm, 1.05, top_cells_per_rank);
   domain.rebalance(p, h);
   const Decomposition<2> d = decompose(comm, p, h, top_cells_per_rank);
   for (std::size_t i = 0; i < p.size(); ++i) ASSERT_EQ(d.owner_of(p.pos[i]), comm.rank());
@@ -146,6 +146,32 @@ TEST(DistributedRates, SameBitsWithCoarseTopCells) {
   PhysicsParams phys;
   phys.nu = 4.778e-5;
   expect_distributed_equals_serial(phys, 4000, 4);  // few, large top cells: uneven shares
+}
+
+// The owners are kept while the particle counts they give stay within the threshold, and cut anew
+// past it; every particle ends on the owner of its top cell either way.
+TEST(DistributedDomain, RebalancesOnlyPastTheThreshold) {
+  const Communicator comm = Communicator::world();
+  if (comm.size() == 1) GTEST_SKIP() << "one rank has nothing to balance";
+  const RingSetup s = ring(6000);
+  const double h = ring_smoothing_length(s, 60);
+  Particles<2> p = make_ring(s, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
+  DistributedDomain<2> domain(comm, 1.05);
+  domain.rebalance(p, h);
+  EXPECT_EQ(domain.recuts(), 1u);
+  EXPECT_LE(domain.imbalance(), 1.05);
+  const Decomposition<2> first = decompose(comm, p, h, 256);
+  rotate(p, 1e-4);  // a small drift: the counts hardly change
+  domain.rebalance(p, h);
+  EXPECT_EQ(domain.recuts(), 1u);
+  for (const auto& x : p.pos) ASSERT_EQ(first.owner_of(x), comm.rank());
+  for (auto& x : p.pos) x = Vec<2>{{0.3 * x[0] * x[0], 0.3 * x[1]}};  // squeezed to one side: unbalanced
+  domain.rebalance(p, h);
+  EXPECT_EQ(domain.recuts(), 2u);
+  const double largest = comm.max(static_cast<double>(p.size()));
+  EXPECT_LE(largest * comm.size() / static_cast<double>(comm.sum(p.size())), 1.05);
+  const Decomposition<2> now = decompose(comm, p, h, 256);
+  for (const auto& x : p.pos) ASSERT_EQ(now.owner_of(x), comm.rank());
 }
 
 int main(int argc, char** argv) {
