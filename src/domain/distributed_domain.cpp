@@ -107,21 +107,44 @@ Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, doub
   return d;
 }
 
+// Particles move in rounds of at most this many per destination, so that the packed copies on
+// both sides stay small next to the particles themselves, even at the first distribution (after
+// reading a file by slices, about (P-1)/P of them move).
+constexpr std::size_t kMigrationRound = std::size_t{1} << 15;
+
 template <int D>
 void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p) {
   const auto ranks = static_cast<std::size_t>(comm.size());
   std::vector<std::vector<std::uint32_t>> leaving(ranks);
-  std::vector<std::uint32_t> staying;
+  std::vector<std::uint32_t> keep;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int r = d.owner_of(p.pos[i]);
-    (r == comm.rank() ? staying : leaving[static_cast<std::size_t>(r)]).push_back(static_cast<std::uint32_t>(i));
+    (r == comm.rank() ? keep : leaving[static_cast<std::size_t>(r)]).push_back(static_cast<std::uint32_t>(i));
   }
-  std::vector<std::vector<std::byte>> send(ranks);
-  for (std::size_t r = 0; r < ranks; ++r)
-    if (!leaving[r].empty()) send[r] = pack(p, leaving[r], {});
-  const auto recv = comm.exchange(send);
-  p.gather(staying);
-  unpack_all(p, recv);
+  // How many arrive (to size p once) and how many rounds the busiest pair needs.
+  std::vector<std::uint64_t> sending(ranks * ranks, 0);
+  for (std::size_t r = 0; r < ranks; ++r) sending[static_cast<std::size_t>(comm.rank()) * ranks + r] = leaving[r].size();
+  comm.sum(sending);
+  std::uint64_t arriving = 0, busiest = 0;
+  for (std::size_t from = 0; from < ranks; ++from) arriving += sending[from * ranks + static_cast<std::size_t>(comm.rank())];
+  for (const std::uint64_t c : sending) busiest = std::max(busiest, c);
+  std::size_t next = p.size();
+  p.resize(p.size() + arriving);  // arrivals are appended, then the leavers dropped
+  for (std::size_t start = 0; start < busiest; start += kMigrationRound) {
+    std::vector<std::vector<std::byte>> send(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) {
+      if (start >= leaving[r].size()) continue;
+      const auto first = leaving[r].begin() + static_cast<std::ptrdiff_t>(start);
+      const auto last = leaving[r].begin() + static_cast<std::ptrdiff_t>(std::min(leaving[r].size(), start + kMigrationRound));
+      send[r] = pack(p, std::vector<std::uint32_t>(first, last), {});
+    }
+    for (const auto& buf : comm.exchange(send)) {
+      unpack(p, next, buf, {});
+      next += packed_count(buf);
+    }
+  }
+  for (std::size_t i = p.size() - arriving; i < p.size(); ++i) keep.push_back(static_cast<std::uint32_t>(i));
+  p.gather(keep);
 }
 
 // Rank of each ID's range: P equal ranges over [0, max ID of all ranks].
