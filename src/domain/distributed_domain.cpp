@@ -109,41 +109,50 @@ Decomposition<D> decompose(const Communicator& comm, const Particles<D>& p, doub
 
 // Particles move in rounds of at most this many per destination, so that the packed copies on
 // both sides stay small next to the particles themselves, even at the first distribution (after
-// reading a file by slices, about (P-1)/P of them move).
-constexpr std::size_t kMigrationRound = std::size_t{1} << 15;
+// reading a file by slices, about (P-1)/P of them move) and when regrouping for output.
+constexpr std::size_t kRound = std::size_t{1} << 15;
+
+// Sends the particles to[r] of p to rank r (only `fields`) and appends the arrivals to out, which
+// may be p itself (it is resized once, before anything is read). Returns how many arrived.
+template <int D>
+std::size_t send_in_rounds(const Communicator& comm, const Particles<D>& p, const std::vector<std::vector<std::uint32_t>>& to,
+                           const FieldNames& fields, Particles<D>& out) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  const auto me = static_cast<std::size_t>(comm.rank());
+  std::vector<std::uint64_t> sending(ranks * ranks, 0);  // [from * ranks + to]
+  for (std::size_t r = 0; r < ranks; ++r) sending[me * ranks + r] = to[r].size();
+  comm.sum(sending);
+  std::uint64_t arriving = 0, busiest = 0;
+  for (std::size_t from = 0; from < ranks; ++from) arriving += sending[from * ranks + me];
+  for (const std::uint64_t c : sending) busiest = std::max(busiest, c);
+  std::size_t next = out.size();
+  out.resize(out.size() + arriving);
+  for (std::size_t start = 0; start < busiest; start += kRound) {
+    std::vector<std::vector<std::byte>> send(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) {
+      if (start >= to[r].size()) continue;
+      const auto first = to[r].begin() + static_cast<std::ptrdiff_t>(start);
+      const auto last = to[r].begin() + static_cast<std::ptrdiff_t>(std::min(to[r].size(), start + kRound));
+      send[r] = pack(p, std::vector<std::uint32_t>(first, last), fields);
+    }
+    for (const auto& buf : comm.exchange(send)) {
+      unpack(out, next, buf, fields);
+      next += packed_count(buf);
+    }
+  }
+  return arriving;
+}
 
 template <int D>
 void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p) {
-  const auto ranks = static_cast<std::size_t>(comm.size());
-  std::vector<std::vector<std::uint32_t>> leaving(ranks);
+  std::vector<std::vector<std::uint32_t>> leaving(static_cast<std::size_t>(comm.size()));
   std::vector<std::uint32_t> keep;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const int r = d.owner_of(p.pos[i]);
     (r == comm.rank() ? keep : leaving[static_cast<std::size_t>(r)]).push_back(static_cast<std::uint32_t>(i));
   }
-  // How many arrive (to size p once) and how many rounds the busiest pair needs.
-  std::vector<std::uint64_t> sending(ranks * ranks, 0);
-  for (std::size_t r = 0; r < ranks; ++r) sending[static_cast<std::size_t>(comm.rank()) * ranks + r] = leaving[r].size();
-  comm.sum(sending);
-  std::uint64_t arriving = 0, busiest = 0;
-  for (std::size_t from = 0; from < ranks; ++from) arriving += sending[from * ranks + static_cast<std::size_t>(comm.rank())];
-  for (const std::uint64_t c : sending) busiest = std::max(busiest, c);
-  std::size_t next = p.size();
-  p.resize(p.size() + arriving);  // arrivals are appended, then the leavers dropped
-  for (std::size_t start = 0; start < busiest; start += kMigrationRound) {
-    std::vector<std::vector<std::byte>> send(ranks);
-    for (std::size_t r = 0; r < ranks; ++r) {
-      if (start >= leaving[r].size()) continue;
-      const auto first = leaving[r].begin() + static_cast<std::ptrdiff_t>(start);
-      const auto last = leaving[r].begin() + static_cast<std::ptrdiff_t>(std::min(leaving[r].size(), start + kMigrationRound));
-      send[r] = pack(p, std::vector<std::uint32_t>(first, last), {});
-    }
-    for (const auto& buf : comm.exchange(send)) {
-      unpack(p, next, buf, {});
-      next += packed_count(buf);
-    }
-  }
-  for (std::size_t i = p.size() - arriving; i < p.size(); ++i) keep.push_back(static_cast<std::uint32_t>(i));
+  const std::size_t arrived = send_in_rounds(comm, p, leaving, {}, p);  // appended after the leavers
+  for (std::size_t i = p.size() - arrived; i < p.size(); ++i) keep.push_back(static_cast<std::uint32_t>(i));
   p.gather(keep);
 }
 
@@ -159,14 +168,14 @@ std::function<std::size_t(std::uint64_t)> id_range_of(const Communicator& comm, 
 }
 
 template <int D>
-Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p) {
+Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, const FieldNames& fields) {
   const auto range_of = id_range_of(comm, p.id);
   std::vector<std::vector<std::uint32_t>> to(static_cast<std::size_t>(comm.size()));
   for (std::size_t i = 0; i < p.size(); ++i) to[range_of(p.id[i])].push_back(static_cast<std::uint32_t>(i));
-  std::vector<std::vector<std::byte>> send(to.size());
-  for (std::size_t r = 0; r < to.size(); ++r) send[r] = pack(p, to[r], {});
+  FieldNames with_id = fields;
+  if (!fields.empty()) with_id.push_back("id");
   Particles<D> out;
-  unpack_all(out, comm.exchange(send));
+  send_in_rounds(comm, p, to, with_id, out);
   std::vector<std::uint32_t> order(out.size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&out](std::uint32_t a, std::uint32_t b) { return out.id[a] < out.id[b]; });
@@ -390,8 +399,8 @@ template Decomposition<2> decompose(const Communicator&, const Particles<2>&, do
 template Decomposition<3> decompose(const Communicator&, const Particles<3>&, double, std::size_t);
 template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>&);
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
-template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&);
-template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&);
+template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&, const FieldNames&);
+template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&, const FieldNames&);
 template Particles<2> copy_to_every_rank(const Communicator&, const Particles<2>&, const FieldNames&);
 template Particles<3> copy_to_every_rank(const Communicator&, const Particles<3>&, const FieldNames&);
 template class Halo<2>;

@@ -36,9 +36,10 @@ template <int D>
 void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p);
 
 // Copies of the particles regrouped by ID, in ID order: rank r gets the IDs of the r-th of P equal
-// ID ranges (for writing files in ID order without gathering them anywhere).
+// ID ranges (for writing files in ID order without gathering them anywhere). Only `fields` (and
+// the IDs) are copied; the others are sized but unset.
 template <int D>
-Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p);
+Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, const FieldNames& fields = {});
 
 // Every rank's particles (only `fields`; the rest sized but unset), on every rank, in rank order
 // (collective; O(N) on every rank: only for start-up steps that need all positions).

@@ -14,6 +14,16 @@ std::size_t first_row(const Communicator& comm, std::size_t mine) {
   comm.sum(counts);
   return std::accumulate(counts.begin(), counts.begin() + comm.rank(), std::size_t{0});
 }
+
+// The names of the fields carrying any of `flags` (only these are regrouped for a file).
+template <int D>
+FieldNames fields_with(unsigned flags) {
+  FieldNames names;
+  Particles<D>{}.for_each_field([&](const FieldInfo& info, const auto&) {
+    if (info.flags & flags) names.push_back(info.name);
+  });
+  return names;
+}
 }  // namespace
 
 template <int D>
@@ -22,7 +32,7 @@ void write_snapshot(const Communicator& comm, const std::string& path, const Par
     write_snapshot(path, p, meta);
     return;
   }
-  const Particles<D> mine = regroup_by_id(comm, p);  // ID-ordered, and the ranks' ranges ascend
+  const Particles<D> mine = regroup_by_id(comm, p, fields_with<D>(kSnapshot));  // ID-ordered; ranges ascend with rank
   SnapshotMeta m = meta;
   m.box_size = comm.max(std::max(meta.box_size, snapshot_box_size(p)));
   std::vector<std::size_t> order(mine.size());
@@ -35,7 +45,7 @@ void write_checkpoint(const Communicator& comm, const std::string& path, const P
     write_checkpoint(path, p, s);
     return;
   }
-  const Particles<2> mine = regroup_by_id(comm, p);
+  const Particles<2> mine = regroup_by_id(comm, p, fields_with<2>(kCheckpoint));
   write_checkpoint_share(path, comm, comm.sum(p.size()), first_row(comm, mine.size()), mine, s);
 }
 
