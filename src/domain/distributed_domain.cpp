@@ -267,9 +267,8 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   }
   comm.bit_or(occupied);
   comm.max(need_max);
-  double widest_need = 0;
-  for (double r : need_max) widest_need = std::max(widest_need, r);
   const double edge = grid.lattice.cell_size * grid.block;
+  auto holds = [&](std::size_t c, std::size_t r) { return (occupied[c * words + r / 64] >> (r % 64) & 1u) != 0; };
   auto other_ranks_in = [&](std::size_t c) {
     for (std::size_t w = 0; w < words; ++w) {
       const std::uint64_t mask = w == me / 64 ? ~(std::uint64_t{1} << (me % 64)) : ~std::uint64_t{0};
@@ -277,24 +276,42 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     }
     return false;
   };
-  // Per top cell holding particles of this rank: the cells of other ranks its particles may have to
-  // go to (box-to-box distance below the larger of the two radii), found once per cell.
+  // Box-to-box distance between top cells a and b below r?
+  auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
+    double gap2 = 0;
+    for (int k = 0; k < D; ++k) {
+      const double gap = std::max(0, std::abs(a[static_cast<std::size_t>(k)] - b[static_cast<std::size_t>(k)]) - 1) * edge;
+      gap2 += gap * gap;
+    }
+    return gap2 < r * r;
+  };
+  // Per top cell s holding particles of this rank: the cells c of other ranks its particles may have
+  // to go to, where the box gap is below max(need_max[c], reach_max[s]) -- i.e. below reach_max[s]
+  // (scan around s) or below need_max[c] (scan around c). Each scan spans its own cell's radius, not
+  // the widest of all (one particle with a large h would otherwise widen every cell's scan).
   std::vector<std::vector<std::uint32_t>> targets(cells);
+  const double margin = 1.0 + 1e-12;
   for (std::size_t s = 0; s < cells; ++s) {
-    if (!(occupied[s * words + me / 64] >> (me % 64) & 1u)) continue;  // none of this rank's particles
+    if (!holds(s, me) || reach_max[s] <= 0) continue;
     const std::array<int, D> ts = coord_of_index<D>(grid, s);
-    const double R = std::max(widest_need, reach_max[s]) * (1.0 + 1e-12);
+    const double R = reach_max[s] * margin;
     for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
       const std::size_t c = grid.top_index(tc);
-      if (!other_ranks_in(c)) return;
-      double gap2 = 0;
-      for (int k = 0; k < D; ++k) {
-        const double gap = std::max(0, std::abs(tc[static_cast<std::size_t>(k)] - ts[static_cast<std::size_t>(k)]) - 1) * edge;
-        gap2 += gap * gap;
-      }
-      const double r = std::max(need_max[c], reach_max[s]) * (1.0 + 1e-12);
-      if (gap2 < r * r) targets[s].push_back(static_cast<std::uint32_t>(c));
+      if (other_ranks_in(c) && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
     });
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (!other_ranks_in(c) || need_max[c] <= 0) continue;
+    const std::array<int, D> tc = coord_of_index<D>(grid, c);
+    const double R = need_max[c] * margin;
+    for_each_top_cell_near<D>(grid, tc, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& ts) {
+      const std::size_t s = grid.top_index(ts);
+      if (holds(s, me) && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
+    });
+  }
+  for (auto& t : targets) {
+    std::sort(t.begin(), t.end());
+    t.erase(std::unique(t.begin(), t.end()), t.end());
   }
   std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
