@@ -25,7 +25,9 @@ mkdir -p "$out"
 for n in "${sizes[@]}"; do
   for r in $ranks; do
     dir=$out/N${n}_r${r}_t${threads}_${smoothing}
-    mpirun -np "$r" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS="$threads" \
+    # OpenMPI binds each of up to 2 ranks to one core by default: a rank's threads would share it.
+    bind=(); [ "$threads" -gt 1 ] && bind=(--bind-to none)
+    mpirun -np "$r" "${bind[@]}" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS="$threads" \
       build/release/sphdisk run configs/ring.toml -q --overwrite -o "$dir" --set problem.particles="$n" \
       --set "sph.smoothing=\"$smoothing\"" --set run.max_steps="$steps" --set checkpoint.every_seconds=0 \
       --set 'output.tau=[0.126]' > /dev/null

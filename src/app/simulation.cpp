@@ -465,6 +465,18 @@ void apply_run_options(const Config& cfg, const RunOptions& opts) {
 
 }  // namespace
 
+// More threads than the CPUs this process is bound to, on a machine that has more (an MPI launcher
+// binds up to two ranks to one core each by default): the threads take turns; say so once, with the fix.
+void warn_if_threads_share_cpus(const Communicator& comm, const RunOptions& opts) {
+  const int threads = par::max_threads(), cpus = par::cpus_available();
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);  // more threads than the machine's cores is the user's choice
+  if (opts.quiet || !comm.is_root() || threads <= cpus || cpus >= online) return;
+  std::fprintf(stderr,
+               "sphdisk: warning: %d threads but this process may run on %d CPU(s), so threads will take turns; "
+               "with mpirun, give each rank its cores: --map-by slot:PE=%d (or use fewer threads)\n",
+               threads, cpus, threads);
+}
+
 // The global h giving `neighbours` neighbours on average over all ranks' particles.
 double calibrated_smoothing_length(const Communicator& comm, const Particles<kDim>& p, double neighbours) {
   if (comm.size() == 1) return calibrate_smoothing_length(p.pos, p.id, neighbours);
@@ -479,6 +491,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, cfg.smoothing == "adaptive");
 
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
+  warn_if_threads_share_cpus(comm, opts);
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
@@ -530,6 +543,7 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   Particles<kDim> p = read_checkpoint(path, state, opts.one_process ? Communicator::self() : Communicator::world());
   const Config cfg = parse_config(state.config_toml, path, overrides);
   apply_run_options(cfg, opts);
+  warn_if_threads_share_cpus(opts.one_process ? Communicator::self() : Communicator::world(), opts);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();

@@ -20,6 +20,9 @@ namespace sphdisk::par {
 
 int max_threads();
 void set_threads(int n);  // n <= 0: use the runtime default
+// CPUs this process may run on (its affinity mask: an MPI launcher may have bound it to fewer
+// cores than it has threads).
+int cpus_available();
 int thread_index();
 
 // Loop over [0, n) with dynamic load balancing: chunks of `grain` iterations are handed out on

@@ -1,4 +1,6 @@
 // Thread control and trace buffers of the parallel layer.
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <fstream>
@@ -25,6 +27,13 @@ void set_threads(int n) {
 #else
   (void)n;
 #endif
+}
+
+int cpus_available() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return max_threads();  // unknown: assume enough
+  return CPU_COUNT(&set);
 }
 
 int thread_index() {

@@ -64,6 +64,22 @@ else
   echo "repeated ID across ranks: NOT refused as expected (exit $code): $err"; fail=1
 fi
 
+# A rank bound to one core but given 2 threads (OpenMPI's default binding for up to 2 ranks) is
+# warned about, with the fix; unbound, it is not.
+if [ "$(nproc)" -ge 2 ]; then
+  small=(run --set problem.particles=1000 --set run.max_steps=1 --set output.progress_interval=0
+         "$(dirname "$0")/small_ring.toml")
+  bound=$("$mpiexec" -np 1 --bind-to core --allow-run-as-root -x OMP_NUM_THREADS=2 "$sphdisk" "${small[@]}" \
+          --output "$work/bound" 2>&1 > /dev/null)
+  free=$("$mpiexec" -np 1 --bind-to none --allow-run-as-root -x OMP_NUM_THREADS=2 "$sphdisk" "${small[@]}" \
+         --output "$work/free" 2>&1 > /dev/null)
+  if grep -q "map-by slot:PE=2" <<< "$bound" && ! grep -q "warning" <<< "$free"; then
+    echo "threads bound to one core: warned; unbound: no warning"
+  else
+    echo "binding warning WRONG: bound: '$bound' / unbound: '$free'"; fail=1
+  fi
+fi
+
 # The trace of a 2-rank x 2-thread run has one process track per rank, each with its threads and
 # the communication phase.
 "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=2 \
