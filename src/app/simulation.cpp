@@ -15,6 +15,7 @@
 
 #include "app/diagnostics.hpp"
 #include "app/rate_evaluator.hpp"
+#include "app/smoothing_calibration.hpp"
 #include "core/error.hpp"
 #include "core/timers.hpp"
 #include "core/units.hpp"
@@ -477,11 +478,14 @@ void warn_if_threads_share_cpus(const Communicator& comm, const RunOptions& opts
                threads, cpus, threads);
 }
 
-// The global h giving `neighbours` neighbours on average over all ranks' particles.
-double calibrated_smoothing_length(const Communicator& comm, const Particles<kDim>& p, double neighbours) {
-  if (comm.size() == 1) return calibrate_smoothing_length(p.pos, p.id, neighbours);
-  const Particles<kDim> all = copy_to_every_rank(comm, p, {"pos", "id"});
-  return calibrate_smoothing_length(all.pos, all.id, neighbours);
+// The global h giving `neighbours` neighbours on average over all ranks' particles. Over ranks the
+// particles are first sent to their owners (compact regions, few ghosts); the decomposition's
+// lattice only groups particles, so its smallest cell size is immaterial (make_lattice widens it).
+double calibrated_smoothing_length(const Communicator& comm, Particles<kDim>& p, double neighbours) {
+  if (comm.size() == 1) return calibrate_smoothing_length(p, neighbours);
+  DistributedDomain<kDim> domain(comm);
+  domain.rebalance(p, std::numeric_limits<double>::min());
+  return calibrate_smoothing_length<kDim>(p, neighbours, &domain);
 }
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
@@ -513,7 +517,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   // h: given, or from the target mean neighbour number (analytically for the ring, measured on
   // the particles for a user's file). Constant smoothing keeps it for all particles and times
   // (P98 sec. 5.3); adaptive smoothing starts its per-particle solve from it.
-  // Calibrating on a user's file needs all positions on every rank for a moment (O(N)).
   state.smoothing_length = cfg.smoothing_length > 0         ? cfg.smoothing_length
                            : cfg.initial_conditions.empty() ? ring_smoothing_length(setup.ring, cfg.neighbours)
                                                             : calibrated_smoothing_length(comm, p, cfg.neighbours);

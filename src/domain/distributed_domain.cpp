@@ -202,16 +202,6 @@ bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids)
   return !comm.any(std::adjacent_find(mine.begin(), mine.end()) != mine.end());
 }
 
-template <int D>
-Particles<D> copy_to_every_rank(const Communicator& comm, const Particles<D>& p, const FieldNames& fields) {
-  std::vector<std::uint32_t> all(p.size());
-  std::iota(all.begin(), all.end(), 0u);
-  const std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(comm.size()), pack(p, all, fields));
-  Particles<D> out;
-  unpack_all(out, comm.exchange(send), fields);
-  return out;
-}
-
 // Top cells are visited as offsets in a box of half-width `reach` cells around a centre cell.
 template <int D, class F>
 void for_each_top_cell_near(const Decomposition<D>& grid, const std::array<int, D>& centre, int reach, F&& f) {
@@ -418,8 +408,6 @@ template void migrate(const Communicator&, const Decomposition<2>&, Particles<2>
 template void migrate(const Communicator&, const Decomposition<3>&, Particles<3>&);
 template Particles<2> regroup_by_id(const Communicator&, const Particles<2>&, const FieldNames&);
 template Particles<3> regroup_by_id(const Communicator&, const Particles<3>&, const FieldNames&);
-template Particles<2> copy_to_every_rank(const Communicator&, const Particles<2>&, const FieldNames&);
-template Particles<3> copy_to_every_rank(const Communicator&, const Particles<3>&, const FieldNames&);
 template class Halo<2>;
 template class Halo<3>;
 

@@ -41,11 +41,6 @@ void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& 
 template <int D>
 Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, const FieldNames& fields = {});
 
-// Every rank's particles (only `fields`; the rest sized but unset), on every rank, in rank order
-// (collective; O(N) on every rank: only for start-up steps that need all positions).
-template <int D>
-Particles<D> copy_to_every_rank(const Communicator& comm, const Particles<D>& p, const FieldNames& fields);
-
 // True on every rank when no ID occurs twice among all ranks' `ids` (collective; O(N/P) memory:
 // each ID is checked on the rank of its ID range).
 bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids);

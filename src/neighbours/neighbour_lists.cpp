@@ -178,29 +178,3 @@ template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>
 
 }  // namespace sphdisk
 
-namespace sphdisk {
-
-template <int D>
-double calibrate_smoothing_length(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double target) {
-  Vec<D> lo, hi;
-  bounding_box(pos, lo, hi);
-  double volume = 1.0;
-  for (int k = 0; k < D; ++k) volume *= std::max(hi[k] - lo[k], 1e-300);
-  // Start from a uniform distribution over the bounding box: N (2h)^D ~ target volume.
-  double h = 0.5 * std::pow(target * volume / static_cast<double>(std::max<std::size_t>(pos.size(), 1)), 1.0 / D);
-  CellGrid<D> grid;
-  NeighbourLists nl;
-  for (int iter = 0; iter < 60; ++iter) {
-    build_cell_grid(pos, id, h, grid);
-    build_neighbour_lists(grid, pos, 2.0 * h, nl);
-    const double mean = static_cast<double>(nl.total()) / static_cast<double>(pos.size());
-    if (std::abs(mean / target - 1.0) < 0.01) break;
-    h *= std::pow(target / std::max(mean, 0.5), 1.0 / D);
-  }
-  return h;
-}
-
-template double calibrate_smoothing_length(const std::vector<Vec<2>>&, const std::vector<std::uint64_t>&, double);
-template double calibrate_smoothing_length(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double);
-
-}  // namespace sphdisk

@@ -73,12 +73,3 @@ NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<
 
 }  // namespace sphdisk
 
-namespace sphdisk {
-
-// Global smoothing length h for which the mean number of neighbours within 2h is `target`, for
-// initial conditions given as particles (a user's file). In D dimensions the count grows as h^D,
-// so h is rescaled by (target / mean)^(1/D) until the mean is within 1% of the target.
-template <int D>
-double calibrate_smoothing_length(const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id, double target);
-
-}  // namespace sphdisk
