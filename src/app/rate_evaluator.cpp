@@ -192,6 +192,19 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
 }
 
 template <int D>
+std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() const {
+  std::size_t scratch = 0, kernels = 0;
+  for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
+  std::apply([&kernels](const auto&... v) { ((kernels += v.capacity() * sizeof(v[0])), ...); }, kernels_);
+  return {{"interaction_lists", lists_.bytes()},
+          {"candidate_lists", candidates_.bytes()},
+          {"pair_factors", factors_.capacity() * sizeof(float)},
+          {"bound_kernels", kernels},
+          {"cell_grid", grid_.bytes()},
+          {"per_particle_scratch", scratch}};
+}
+
+template <int D>
 void RateEvaluator<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
   if (!domain_) return;
   ScopedPhase t(timers_, "communication");

@@ -4,7 +4,9 @@
 // under its phase timer; this is the function the integrators call.
 // Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
 // the neighbour lists.
+#include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
@@ -55,6 +57,9 @@ class RateEvaluator {
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
   std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
+  // Memory held between evaluations, by part (bytes; capacities, scratch included): what the
+  // bytes-per-particle figure of a run is made of.
+  std::vector<std::pair<std::string, std::size_t>> memory() const;
 
  private:
   template <class K>

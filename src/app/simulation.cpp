@@ -333,6 +333,9 @@ class Runner {
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
        << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
        << ", \"decompositions\": " << domain_.recuts() << ", \"count_imbalance\": " << domain_.imbalance()
+       << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
+    for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
+    os << "}"
        << ", \"timers\": " << timers_.json().substr(0, timers_.json().size() - 1) << "}";
     const std::vector<std::string> all = domain_.comm().gather_to_root(os.str());
     std::string out = "[\n";

@@ -61,6 +61,11 @@ struct Particles {
 #undef SPHDISK_DECLARE_FIELD
 
   std::size_t size() const { return id.size(); }
+  std::size_t bytes() const {  // memory held by all fields (capacities)
+    std::size_t b = 0;
+    for_each_field([&b](const FieldInfo&, const auto& v) { b += v.capacity() * sizeof(v[0]); });
+    return b;
+  }
 
   // Calls f(info, field_vector) for every field in table order.
   template <class F>

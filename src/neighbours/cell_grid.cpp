@@ -123,6 +123,11 @@ Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, doubl
   L.lo = lo;
   const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);
   L.cell_size = min_cell_size;
+  if (!(L.cell_size > 0)) {  // no lower bound (or a zero h): the cap on cells sets the size
+    double extent = 0;
+    for (int k = 0; k < D; ++k) extent = std::max(extent, hi[k] - lo[k]);
+    L.cell_size = std::max(extent * 1e-9, std::numeric_limits<double>::min());
+  }
   for (;;) {
     double ncells = 1;
     for (int k = 0; k < D; ++k) ncells *= std::floor((hi[k] - lo[k]) / L.cell_size) + 1.0;

@@ -42,6 +42,10 @@ struct CellGrid {
   std::vector<std::uint32_t> key;      // scratch: cell of each particle
 
   std::size_t num_cells() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t bytes() const {  // memory held (capacities)
+    return (sorted.capacity() + offsets.capacity() + key.capacity()) * sizeof(std::uint32_t) +
+           sorted_pos.capacity() * sizeof(Vec<D>);
+  }
   int coord(double x, int k) const;                  // clamped to [0, dims[k])
   std::size_t linear(const std::array<int, D>& c) const;
   std::size_t cell_of(const Vec<D>& x) const;

@@ -153,6 +153,13 @@ void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Ve
               settle, nl);
 }
 
+std::size_t NeighbourLists::bytes() const {
+  std::size_t b = offsets.capacity() * sizeof(std::size_t) + index.capacity() * sizeof(std::uint32_t);
+  for (const auto& v : block_index) b += v.capacity() * sizeof(std::uint32_t);
+  for (const auto& v : block_count) b += v.capacity() * sizeof(std::uint32_t);
+  return b;
+}
+
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
                             const std::vector<double>& radius, NeighbourLists& nl) {

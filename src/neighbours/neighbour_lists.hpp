@@ -27,6 +27,8 @@ struct NeighbourLists {
   // Builder scratch, one list per block of particles, kept between builds so that rebuilding
   // reuses memory instead of faulting in fresh pages (which serialises threads in the kernel).
   std::vector<std::vector<std::uint32_t>> block_index, block_count;
+
+  std::size_t bytes() const;  // memory held (capacities, builder scratch included)
 };
 
 // Any cell size works; cells of about radius/2 scan the fewest candidates (5 x 5 cells of h^2

@@ -2,6 +2,8 @@
 // they need (neighbours/interaction_lists.hpp), against brute force.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <algorithm>
 #include <random>
 
@@ -188,4 +190,22 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
       ASSERT_EQ(results[t].acc[i][1], results[0].acc[i][1]);
     }
   }
+}
+
+// The memory report of the rate evaluator covers what it holds: at least the lists' entries and
+// offsets, one pair factor per entry, and one bound kernel per particle.
+TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
+  auto p = test::random_particles<2>(2000, 5, false);
+  for (auto& hi : p.h) hi = 0.02;
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
+  rates.evaluate(p);
+  std::map<std::string, std::size_t> bytes;
+  for (const auto& [part, b] : rates.memory()) bytes[part] = b;
+  const NeighbourLists& nl = rates.neighbours();
+  EXPECT_GE(bytes["interaction_lists"], nl.total() * sizeof(std::uint32_t) + (nl.size() + 1) * sizeof(std::size_t));
+  EXPECT_GE(bytes["pair_factors"], rates.pair_factors().size() * sizeof(float));
+  EXPECT_GE(bytes["candidate_lists"], nl.total() * sizeof(std::uint32_t));  // candidates include every neighbour
+  EXPECT_GE(bytes["bound_kernels"], p.size() * sizeof(double));
+  EXPECT_GE(p.bytes(), p.size() * (sizeof(Vec<2>) * 3 + sizeof(double) * 4));
 }

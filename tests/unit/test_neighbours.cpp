@@ -67,3 +67,15 @@ TEST(Neighbours, SameListsForAnyThreadCount) {
   EXPECT_EQ(a.offsets, b.offsets);
   EXPECT_EQ(a.index, b.index);
 }
+
+// A lattice with no lower bound on the cell size (a zero smoothing length) is sized by the cap on
+// cells (at most max(4 n, 1024)), instead of never finishing.
+TEST(Lattice, ZeroMinimumCellSizeIsCappedByTheCellCount) {
+  const Vec<2> lo{{-1.0, -2.0}}, hi{{3.0, 1.0}};
+  for (const double min_size : {0.0, -1.0, std::nan("")}) {
+    const Lattice<2> L = make_lattice(lo, hi, 1000, min_size);
+    ASSERT_GT(L.cell_size, 0.0);
+    EXPECT_LE(static_cast<double>(L.dims[0]) * L.dims[1], 4000.0);
+    EXPECT_GE(static_cast<double>(L.dims[0]) * L.dims[1], 4000.0 / 1.25 / 1.25 / 2);  // not needlessly coarse
+  }
+}
