@@ -195,6 +195,7 @@ bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids)
   std::vector<std::uint64_t> mine;
   for (const auto& buf : comm.exchange(send)) {
     const std::size_t n = buf.size() / sizeof(std::uint64_t);
+    if (n == 0) continue;  // (memcpy from an empty buffer's null data is undefined)
     mine.resize(mine.size() + n);
     std::memcpy(mine.data() + mine.size() - n, buf.data(), buf.size());
   }

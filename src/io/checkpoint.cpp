@@ -172,7 +172,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
       const std::vector<double> raw = h5::read_dataset_doubles(parts, name, path, rows, cols, read);
       if (cols != components<T>() || raw.size() != rows_read * cols)
         throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong shape");
-      std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
+      if (!raw.empty()) std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
     }
     if (rows != n || field.size() != rows_read)
       throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");
