@@ -173,7 +173,7 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, cons
   std::vector<std::vector<std::uint32_t>> to(static_cast<std::size_t>(comm.size()));
   for (std::size_t i = 0; i < p.size(); ++i) to[range_of(p.id[i])].push_back(static_cast<std::uint32_t>(i));
   FieldNames with_id = fields;
-  if (!fields.empty()) with_id.push_back("id");
+  if (!selected(fields, "id")) with_id.push_back("id");
   Particles<D> out;
   send_in_rounds(comm, p, to, with_id, out);
   std::vector<std::uint32_t> order(out.size());
@@ -312,7 +312,7 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
       const double R = std::max(need_max[c], reach(j)) * (1.0 + 1e-12);
       if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, c)) >= R * R) continue;
       for (std::size_t r = 0; r < ranks; ++r)
-        if (r != me && (occupied[c * words + r / 64] >> (r % 64) & 1u) && std::find(to.begin(), to.end(), r) == to.end())
+        if (r != me && holds(c, r) && std::find(to.begin(), to.end(), r) == to.end())
           to.push_back(r);
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
