@@ -81,7 +81,7 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
                             const Particles<2>& p, const RunState& s) {
   std::uint64_t sum = 0;
   for_each_checkpoint_field(p, [&](const FieldInfo&, const auto& field, std::size_t f) { sum += row_sum(f, first_row, field); });
-  std::uint64_t total = comm.sum(sum) + state_hash(s);  // unsigned: wraps mod 2^64 on every rank alike
+  const std::uint64_t total = comm.sum(sum) + state_hash(s);  // unsigned: wraps mod 2^64 on every rank alike
   write_hdf5_atomically(path, comm, [&](hid_t file, hid_t transfer) {
     h5::Handle g = h5::create_group(file, "Checkpoint");
     h5::write_attr(g, "FormatVersion", kFormatVersion);
@@ -128,9 +128,10 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   h5::Handle g = h5::open_group(file, "Checkpoint", path);
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
   ReadShare out;
-  out.version = static_cast<long long>(num("FormatVersion"));
-  if ((out.version != 1 && out.version != kFormatVersion) || num("Dimension") != kDim)
+  const double version = num("FormatVersion");  // compared as stored: a corrupt value may be NaN
+  if ((version != 1 && version != static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
+  out.version = static_cast<long long>(version);
   auto count = [&](const char* name) {  // a non-negative integer stored as a number
     const double v = num(name);
     if (!(v >= 0 && v <= 9.0e15 && v == std::floor(v)))
