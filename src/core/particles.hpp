@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/snug_resize.hpp"
 #include "core/vec.hpp"
 
 namespace sphdisk {
@@ -81,7 +82,7 @@ struct Particles {
   }
 
   void resize(std::size_t n) {
-    for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
+    for_each_field([n](const FieldInfo&, auto& v) { resize_snug(v, n); });
   }
 
   // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices).

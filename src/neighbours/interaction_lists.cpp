@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/snug_resize.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -49,7 +50,7 @@ void build_interaction_lists(const NeighbourLists& gather, const std::vector<Vec
   out.offsets[0] = 0;
   for (std::size_t i = 0; i < n; ++i)
     out.offsets[i + 1] = out.offsets[i] + gather.count(i) + (scatter_start[i + 1] - scatter_start[i]);
-  out.index.resize(out.offsets[n]);
+  resize_snug(out.index, out.offsets[n]);
 
   // Pass 2: write each list.
   par::for_each(n, [&](std::size_t i) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <span>
 
+#include "core/snug_resize.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -114,7 +115,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
   nl.offsets[0] = 0;
   std::vector<std::size_t> block_start(nblocks + 1, 0);
   for (std::size_t b = 0; b < nblocks; ++b) block_start[b + 1] = block_start[b] + block_index[b].size();
-  nl.index.resize(block_start[nblocks]);
+  resize_snug(nl.index, block_start[nblocks]);
   par::for_each(nblocks, [&](std::size_t b) {
     std::copy(block_index[b].begin(), block_index[b].end(), nl.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
     std::size_t off = block_start[b];

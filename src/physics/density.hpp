@@ -10,6 +10,7 @@
 // when the rest are ghosts whose values come from their owners).
 // Reads: pos, mass, h. Writes: rho, volume, pair factors.
 #include "core/particles.hpp"
+#include "core/snug_resize.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/kernels.hpp"
@@ -41,7 +42,7 @@ double density_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl
 // One global smoothing length.
 template <class K, int D>
 void compute_density(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K, D>& kern, PairFactors& factors) {
-  factors.resize(nl.total());
+  resize_snug(factors, nl.total());
   par::for_each(nl.size(), [&](std::size_t i) {
     p.rho[i] = density_at(i, p, nl, kern, factors.data());
     p.volume[i] = p.mass[i] / p.rho[i];
@@ -52,7 +53,7 @@ void compute_density(Particles<D>& p, const NeighbourLists& nl, const KernelAt<K
 template <class K, int D>
 void compute_density(Particles<D>& p, const NeighbourLists& nl, std::vector<KernelAt<K, D>>& kernels,
                      PairFactors& factors) {
-  factors.resize(nl.total());
+  resize_snug(factors, nl.total());
   kernels.resize(p.size(), KernelAt<K, D>(1.0));
   par::for_each(p.size(), [&](std::size_t i) { kernels[i] = KernelAt<K, D>(p.h[i]); }, "density");
   par::for_each(nl.size(), [&](std::size_t i) {

@@ -208,4 +208,15 @@ TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   EXPECT_GE(bytes["candidate_lists"], nl.total() * sizeof(std::uint32_t));  // candidates include every neighbour
   EXPECT_GE(bytes["bound_kernels"], p.size() * sizeof(double));
   EXPECT_GE(p.bytes(), p.size() * (sizeof(Vec<2>) * 3 + sizeof(double) * 4));
+
+  // Rebuilt at about the same size, the lists and factors stay snug (they used to double).
+  for (int round = 0; round < 3; ++round) {
+    for (std::size_t i = 0; i < p.size(); ++i) p.pos[i][0] *= 1.0 - 1e-3 * static_cast<double>(i % 3);
+    rates.evaluate(p);
+  }
+  for (const auto& [part, b] : rates.memory()) bytes[part] = b;
+  const double entries = static_cast<double>(rates.neighbours().total());
+  EXPECT_LE(static_cast<double>(bytes["pair_factors"]), 1.15 * entries * sizeof(float));
+  EXPECT_LE(static_cast<double>(bytes["interaction_lists"]),
+            1.15 * (entries * sizeof(std::uint32_t) + static_cast<double>(p.size() + 1) * sizeof(std::size_t)));
 }
