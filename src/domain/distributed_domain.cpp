@@ -143,17 +143,31 @@ std::size_t send_in_rounds(const Communicator& comm, const Particles<D>& p, cons
   return arriving;
 }
 
+// The owner of each particle under d.
 template <int D>
-void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p) {
+std::vector<int> owners_of(const Decomposition<D>& d, const Particles<D>& p) {
+  std::vector<int> owner(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) owner[i] = d.owner_of(p.pos[i]);
+  return owner;
+}
+
+// Sends particle i to rank owner[i].
+template <int D>
+void migrate_to(const Communicator& comm, const std::vector<int>& owner, Particles<D>& p) {
   std::vector<std::vector<std::uint32_t>> leaving(static_cast<std::size_t>(comm.size()));
   std::vector<std::uint32_t> keep;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const int r = d.owner_of(p.pos[i]);
+    const int r = owner[i];
     (r == comm.rank() ? keep : leaving[static_cast<std::size_t>(r)]).push_back(static_cast<std::uint32_t>(i));
   }
   const std::size_t arrived = send_in_rounds(comm, p, leaving, {}, p);  // appended after the leavers
   for (std::size_t i = p.size() - arrived; i < p.size(); ++i) keep.push_back(static_cast<std::uint32_t>(i));
   p.gather(keep);
+}
+
+template <int D>
+void migrate(const Communicator& comm, const Decomposition<D>& d, Particles<D>& p) {
+  migrate_to(comm, owners_of(d, p), p);
 }
 
 // Rank of each ID's range: P equal ranges over [0, max ID of all ranks].
@@ -341,21 +355,26 @@ void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldName
 template <int D>
 void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
   if (comm_.size() == 1) return;
-  auto imbalance_of = [&](const Decomposition<D>& d) {
+  auto imbalance_of = [&](const std::vector<int>& owner) {
     std::vector<std::uint64_t> counts(static_cast<std::size_t>(comm_.size()), 0);
-    for (const Vec<D>& x : p.pos) ++counts[static_cast<std::size_t>(d.owner_of(x))];
+    for (const int r : owner) ++counts[static_cast<std::size_t>(r)];
     comm_.sum(counts);
     const std::uint64_t total = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
     return static_cast<double>(*std::max_element(counts.begin(), counts.end())) * static_cast<double>(counts.size()) /
            static_cast<double>(std::max<std::uint64_t>(total, 1));
   };
-  if (owners_) imbalance_ = imbalance_of(*owners_);  // particles outside the old lattice go to its edge cells
+  std::vector<int> owner;
+  if (owners_) {  // particles outside the old lattice go to its edge cells
+    owner = owners_of(*owners_, p);
+    imbalance_ = imbalance_of(owner);
+  }
   if (!owners_ || imbalance_ > threshold_) {
     owners_ = decompose(comm_, p, min_cell_size, top_cells_per_rank_);
-    imbalance_ = imbalance_of(*owners_);
+    owner = owners_of(*owners_, p);
+    imbalance_ = imbalance_of(owner);
     ++recuts_;
   }
-  migrate(comm_, *owners_, p);
+  migrate_to(comm_, owner, p);
 }
 
 template <int D>
