@@ -184,7 +184,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   }
   {
     ScopedPhase t(timers_, "forces");
-    compute_accelerations(p, lists_, factors_, phys_);
+    compute_accelerations(p, lists_, factors_, phys_, gravity_);
   }
   ++evaluations_;
   if (domain_) domain_->remove_ghosts(p);

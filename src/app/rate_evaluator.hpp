@@ -47,6 +47,11 @@ class RateEvaluator {
   double global_min(double x) const { return domain_ ? domain_->min(x) : x; }
   double global_max(double x) const { return domain_ ? domain_->max(x) : x; }
 
+  // Whether acc includes the point mass's gravity (default) or only the hydrodynamic part (for an
+  // integrator that substeps gravity itself, integrate/substep_leapfrog.cpp).
+  void include_gravity(bool yes) { gravity_ = yes; }
+  bool includes_gravity() const { return gravity_; }
+
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
   const PhysicsParams& physics() const { return phys_; }
@@ -82,6 +87,7 @@ class RateEvaluator {
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
   PairFactors factors_;    // kernel-gradient factor of every list entry (pair_factors.hpp)
+  bool gravity_ = true;
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;
   std::size_t halo_widenings_ = 0;

@@ -3,11 +3,13 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -110,22 +112,29 @@ std::string find_non_finite(const Particles<D>& p, long long step) {
          std::to_string(step);
 }
 
-// Removes particles inside the accretion radius; their mass and L_z go to the central object.
+struct AccretedParticle {
+  std::uint64_t id;
+  double mass, lz;
+};
+
+// Removes particles inside the accretion radius and returns what their mass and L_z give to the
+// central object.
 template <int D>
-void accrete(Particles<D>& p, double r_acc, double& accreted_mass, double& accreted_lz) {
-  if (r_acc <= 0) return;
+std::vector<AccretedParticle> accrete(Particles<D>& p, double r_acc) {
+  std::vector<AccretedParticle> accreted;
+  if (r_acc <= 0) return accreted;
   const double r2 = r_acc * r_acc;
   std::vector<std::uint32_t> keep;
   keep.reserve(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (norm2(p.pos[i]) < r2) {
-      accreted_mass += p.mass[i];
-      accreted_lz += p.mass[i] * angular_momentum_z(p.pos[i], p.vel[i]);
+      accreted.push_back({p.id[i], p.mass[i], p.mass[i] * angular_momentum_z(p.pos[i], p.vel[i])});
     } else {
       keep.push_back(static_cast<std::uint32_t>(i));
     }
   }
   if (keep.size() != p.size()) p.gather(keep);
+  return accreted;
 }
 
 // Everything the configuration implies in code units.
@@ -206,7 +215,7 @@ class Runner {
     IntegratorParams ip;
     ip.scheme = scheme_from_name(cfg.scheme);
     ip.tolerance = cfg.tolerance;
-    ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor};
+    ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));
@@ -257,12 +266,25 @@ class Runner {
     domain_.rebalance(p_, s_.smoothing_length);
   }
 
-  // Removes accreted particles; the tallies are summed over ranks (in rank order).
+  // Removes accreted particles; the tallies are added in particle-ID order, so they do not depend
+  // on which rank held which particle (a step may accrete several).
   void accrete_all() {
-    double mass = 0, lz = 0;
-    accrete(p_, setup_.phys.accretion_radius, mass, lz);
-    s_.accreted_mass += domain_.comm().sum_in_rank_order(mass);
-    s_.accreted_angular_momentum += domain_.comm().sum_in_rank_order(lz);
+    std::vector<AccretedParticle> all = accrete(p_, setup_.phys.accretion_radius);
+    if (distributed()) {
+      const auto* mine = reinterpret_cast<const std::byte*>(all.data());
+      const auto gathered = domain_.comm().all_gather({mine, mine + all.size() * sizeof(AccretedParticle)});
+      all.clear();
+      for (const auto& b : gathered) {
+        const std::size_t k = all.size();
+        all.resize(k + b.size() / sizeof(AccretedParticle));
+        if (!b.empty()) std::memcpy(all.data() + k, b.data(), b.size());
+      }
+    }
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+    for (const AccretedParticle& a : all) {
+      s_.accreted_mass += a.mass;
+      s_.accreted_angular_momentum += a.lz;
+    }
   }
 
   template <class F>

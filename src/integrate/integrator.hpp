@@ -2,6 +2,8 @@
 // Time integrators. Both advance (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
 //  - KDK leapfrog (default): second order, symplectic for the gravity part; no secular radial drift
 //    of Kepler orbits (physics.md sec. 3, "accuracy trap").
+//  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity
+//    substepped per particle inside it (leapfrog.cpp).
 //  - embedded explicit Runge-Kutta with error control (the paper's "error tolerance of the time
 //    integrator", P98 sec. 5.3): Bogacki-Shampine 3(2) or Dormand-Prince 5(4).
 #include <limits>
@@ -13,7 +15,7 @@
 
 namespace sphdisk {
 
-enum class Scheme { Leapfrog, RK23, RK45 };
+enum class Scheme { Leapfrog, Respa, RK23, RK45 };
 Scheme scheme_from_name(const std::string& name);
 
 struct IntegratorParams {

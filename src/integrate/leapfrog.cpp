@@ -1,24 +1,48 @@
 // Kick-drift-kick leapfrog (physics.md sec. 3). Viscous accelerations depend on velocity, so the
 // rates at the end of the drift are evaluated with the predicted velocity v_half + a_old dt/2 and
 // then used for the closing kick (as in Phantom).
+//
+// Scheme::Respa substeps the point mass's gravity inside each hydrodynamic step (r-RESPA,
+// Tuckerman, Berne & Martyna 1992; Phantom's step_extern does the same):
+//   v += a_hydro dt/2                                 hydro half kick (rates of the last evaluation)
+//   n_i times, delta_i = dt / n_i:                    KDK leapfrog in the point-mass field alone
+//     v += g(x) delta_i/2;  x += v delta_i;  v += g(x) delta_i/2
+//   evaluate a_hydro at the new positions, velocities predicted with + a_hydro_old dt/2
+//   v += a_hydro_new dt/2                             hydro half kick
+// Why: the point-mass field is cheap and stiff near the centre, the SPH forces are expensive and
+// vary slowly. With gravity in the force criterion sqrt(h/|a|) the plain leapfrog's global step is
+// set by |g|, not by the SPH forces; here the SPH forces are evaluated on their own step
+// (hydro_timestep, timestep.hpp) and each particle follows its orbit with its own number of
+// substeps n_i = ceil(dt / (C_sub / Omega_i)), which depends only on its own state (so not on
+// thread or rank count). Both parts are symplectic KDK schemes: no secular drift of Kepler orbits.
+// acc then holds the hydrodynamic acceleration only (RateEvaluator::include_gravity(false)).
 #include <algorithm>
+#include <cmath>
 
 #include "integrate/integrator.hpp"
+#include "physics/forces.hpp"
 
 namespace sphdisk {
 
 template <int D>
 class Leapfrog final : public Integrator<D> {
  public:
-  Leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) : params_(params), rates_(rates) {}
+  Leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates)
+      : params_(params), rates_(rates), substep_gravity_(params.scheme == Scheme::Respa) {
+    rates_.include_gravity(!substep_gravity_);
+  }
 
   void start(Particles<D>& p) override { rates_.evaluate(p); }
 
   double step(Particles<D>& p, double dt_cap) override {
-    const double dt =
-        std::min({dt_cap, params_.dt_max, rates_.global_min(explicit_timestep(p, rates_.physics(), params_.factors))});
+    const PhysicsParams& phys = rates_.physics();
+    const TimestepFactors& f = params_.factors;
+    const double dt_limit = substep_gravity_
+        ? smallest_timestep(p.size(), [&](std::size_t i) { return hydro_timestep(p, i, phys, f); })
+        : explicit_timestep(p, phys, f);
+    const double dt = std::min({dt_cap, params_.dt_max, rates_.global_min(dt_limit)});
     const double half = 0.5 * dt;
-    const bool energy = rates_.physics().evolve_energy;
+    const bool energy = phys.evolve_energy;
     const std::size_t n = p.size();
     v_half_.resize(n);
     u_half_.resize(n);
@@ -26,7 +50,11 @@ class Leapfrog final : public Integrator<D> {
     ScopedPhase timer(rates_.timers(), "integration");
     par::for_each(n, [&](std::size_t i) {
       v_half_[i] = p.vel[i] + p.acc[i] * half;          // kick
-      p.pos[i] += v_half_[i] * dt;                      // drift
+      if (substep_gravity_) {
+        drift_in_point_mass_field(p.pos[i], v_half_[i], dt, phys.gm);
+      } else {
+        p.pos[i] += v_half_[i] * dt;                    // drift
+      }
       p.vel[i] = v_half_[i] + p.acc[i] * half;          // predicted velocity for the rates
       if (energy) {
         u_half_[i] = p.u[i] + p.du_dt[i] * half;
@@ -44,8 +72,22 @@ class Leapfrog final : public Integrator<D> {
   }
 
  private:
+  // The RESPA inner loop: KDK substeps of the point-mass gravity alone over dt.
+  void drift_in_point_mass_field(Vec<D>& x, Vec<D>& v, double dt, double gm) const {
+    const double substeps = std::max(1.0, std::ceil(dt / orbital_timestep(norm(x), gm, params_.factors.substep)));
+    const double delta = dt / substeps, delta_half = 0.5 * delta;
+    Vec<D> g = point_mass_gravity(x, gm);
+    for (double s = 0; s < substeps; s += 1) {
+      v += g * delta_half;
+      x += v * delta;
+      g = point_mass_gravity(x, gm);
+      v += g * delta_half;
+    }
+  }
+
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
+  bool substep_gravity_;
   std::vector<Vec<D>> v_half_;
   std::vector<double> u_half_;
 };

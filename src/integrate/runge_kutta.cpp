@@ -180,7 +180,8 @@ Scheme scheme_from_name(const std::string& name) {
   if (name == "leapfrog") return Scheme::Leapfrog;
   if (name == "rk23") return Scheme::RK23;
   if (name == "rk45") return Scheme::RK45;
-  throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, rk23 or rk45");
+  if (name == "respa") return Scheme::Respa;
+  throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, respa, rk23 or rk45");
 }
 
 template <int D>
@@ -188,7 +189,8 @@ std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, R
   switch (params.scheme) {
     case Scheme::RK23: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, bogacki_shampine());
     case Scheme::RK45: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, dormand_prince());
-    case Scheme::Leapfrog: break;
+    case Scheme::Leapfrog:
+    case Scheme::Respa: break;
   }
   return make_leapfrog<D>(params, rates);
 }

@@ -4,7 +4,6 @@
 //   force    C_force sqrt(h_i / |a_i|)
 //   viscous  C_visc h_i^2 / max(nu, nu_bulk)
 //   Courant  C_cour h_i / c_s                                (only with an equation of state)
-// The smallest over particles is returned; min is exact, so it does not depend on thread count.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,7 +19,17 @@ struct TimestepFactors {
   double force = 0.25;
   double viscous = 0.1;
   double courant = 0.3;
+  // respa only: the point mass's gravity is substepped with steps <= substep / Omega_i
+  // (leapfrog.cpp). Finer than `orbital`: each particle's substep count jumps with radius, and the
+  // KDK velocity error O((Omega dt)^2) jumps with it, which the viscous stress reads as shear.
+  double substep = 0.05;
 };
+
+inline double orbital_timestep(double r, double gm, double factor) { return factor * std::sqrt(r * r * r / gm); }
+
+inline double force_timestep(double h, double a, double factor) {
+  return a > 0 ? factor * std::sqrt(h / a) : std::numeric_limits<double>::infinity();
+}
 
 // Limits that keep an explicit scheme stable whatever its error control says.
 inline double stability_timestep(double h, const PhysicsParams& phys, const TimestepFactors& f) {
@@ -33,19 +42,30 @@ inline double stability_timestep(double h, const PhysicsParams& phys, const Time
 
 template <int D>
 double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
-  const double r = norm(p.pos[i]);
-  double dt = f.orbital * std::sqrt(r * r * r / phys.gm);
-  const double a = norm(p.acc[i]);
-  if (a > 0) dt = std::min(dt, f.force * std::sqrt(p.h[i] / a));
+  const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
+                             force_timestep(p.h[i], norm(p.acc[i]), f.force));
   return std::min(dt, stability_timestep(p.h[i], phys, f));
+}
+
+// The step of the hydrodynamic forces when gravity is substepped: acc holds the hydrodynamic
+// acceleration only, so the force criterion sees the SPH forces alone (Phantom's dtforce); the
+// orbital limit keeps the viscous forces sampled several times per orbit.
+template <int D>
+double hydro_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
+  const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
+                             force_timestep(p.h[i], norm(p.acc[i]), f.force));
+  return std::min(dt, stability_timestep(p.h[i], phys, f));
+}
+
+// Smallest dt_of(i) over the particles; min is exact, so it does not depend on thread count.
+template <class DtOf>
+double smallest_timestep(std::size_t n, DtOf dt_of) {
+  return par::reduce(n, std::numeric_limits<double>::infinity(), dt_of, [](double a, double b) { return std::min(a, b); });
 }
 
 template <int D>
 double explicit_timestep(const Particles<D>& p, const PhysicsParams& phys, const TimestepFactors& f) {
-  const double inf = std::numeric_limits<double>::infinity();
-  return par::reduce(
-      p.size(), inf, [&](std::size_t i) { return particle_timestep(p, i, phys, f); },
-      [](double a, double b) { return std::min(a, b); });
+  return smallest_timestep(p.size(), [&](std::size_t i) { return particle_timestep(p, i, phys, f); });
 }
 
 template <int D>

@@ -206,6 +206,10 @@ void abort_all_ranks(int code) { std::_Exit(code); }
 
 #endif
 
+std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const {
+  return exchange(std::vector<std::vector<std::byte>>(static_cast<std::size_t>(size_), mine));
+}
+
 std::vector<std::string> Communicator::gather_to_root(const std::string& mine) const {
   if (size_ == 1) return {mine};
   std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(size_));

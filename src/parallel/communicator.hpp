@@ -39,6 +39,8 @@ class Communicator {
   // Sum of one value per rank, added in rank order on every rank: the same bits on every rank for a
   // given rank count, but not across rank counts (for diagnostics, never for particle state).
   double sum_in_rank_order(double x) const;
+  // Every rank's bytes on every rank, by rank.
+  std::vector<std::vector<std::byte>> all_gather(const std::vector<std::byte>& mine) const;
   // Every rank's text on rank 0, by rank (empty elsewhere).
   std::vector<std::string> gather_to_root(const std::string& mine) const;
   // True on every rank when any rank passes true (a collective decision).

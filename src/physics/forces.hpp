@@ -3,7 +3,7 @@
 //   viscous:  a_i += sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij                (eq. 6)
 //   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (physics.md 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
-//   gravity:  a_i -= G M x_i / |x_i|^3
+//   gravity:  a_i -= G M x_i / |x_i|^3   (left out when the integrator substeps it)
 // With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
 // Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
@@ -58,10 +58,12 @@ Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const Neighbo
 }
 
 template <int D>
-void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
+void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys,
+                           bool with_gravity = true) {
   par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
     double du_pressure = 0.0;
-    p.acc[i] = hydro_acceleration_at(i, p, nl, F, phys, du_pressure) + point_mass_gravity(p.pos[i], phys.gm);
+    p.acc[i] = hydro_acceleration_at(i, p, nl, F, phys, du_pressure);
+    if (with_gravity) p.acc[i] += point_mass_gravity(p.pos[i], phys.gm);
     p.du_dt[i] += du_pressure;
   }, "forces");
 }
