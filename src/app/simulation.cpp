@@ -355,6 +355,7 @@ class Runner {
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
        << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
        << ", \"decompositions\": " << domain_.recuts() << ", \"count_imbalance\": " << domain_.imbalance()
+       << ", \"rate_evaluations\": " << rates_.evaluations() << ", \"pair_interactions\": " << rates_.pair_interactions()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
     os << "}"
