@@ -51,9 +51,13 @@ RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys,
 // margin and checked afterwards; where it fell short (rare: h grew by more than the margin), the
 // solve is repeated with a wider halo from the same start values, so the result is the one a
 // single process gets.
+//
+// Only the first `active` particles solve for h; the others (inactive ones of a block timestep)
+// keep theirs and take part like ghosts: their gather lists, restricted to active neighbours, give
+// the pairs that only their own support covers.
 template <int D>
 template <class K>
-void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
+void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   constexpr double kHaloMargin = 1.25;
   const std::size_t owned = p.size();
   double cell_size;
@@ -87,8 +91,8 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
     double extent = 0;  // a search beyond twice the lattice's diagonal cannot find more particles
     for (int k = 0; k < D; ++k) extent += std::pow(lattice.cell_size * lattice.dims[static_cast<std::size_t>(k)], 2);
     const double widest = 4.0 * std::sqrt(extent);
-    search_radius_.resize(owned);
-    for (std::size_t i = 0; i < owned; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
+    search_radius_.resize(active);
+    for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, double searched) {
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
@@ -106,7 +110,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
     };
     {
       ScopedPhase t(timers_, "neighbour_search");
-      build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, owned);
+      build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active);
     }
     if (!domain_) break;
     bool again = false;
@@ -127,29 +131,29 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p) {
   }
   if (domain_) refresh_ghosts(p, GhostStage::SmoothingLength);
   ScopedPhase t(timers_, "neighbour_search");
-  if (domain_) {
-    // Ghosts' gather lists with their owners' h: the pairs that only a ghost's own support covers
-    // come from them (interaction_lists.hpp).
+  if (active < p.size()) {
+    // Ghosts' (and inactive particles') gather lists with their own h: the pairs that only their own
+    // support covers come from them (interaction_lists.hpp). Only pairs with an active particle matter.
     search_radius_.resize(p.size());
-    for (std::size_t i = owned; i < p.size(); ++i) search_radius_[i] = 2.0 * p.h[i];
-    append_neighbour_lists(grid_, p.pos, owned, search_radius_, candidates_);
+    for (std::size_t i = active; i < p.size(); ++i) search_radius_[i] = 2.0 * p.h[i];
+    append_neighbour_lists(grid_, p.pos, active, search_radius_, candidates_, active < owned ? active : SIZE_MAX);
   }
   build_interaction_lists(candidates_, p.pos, p.h, p.id, lists_);
-  truncate_lists(lists_, owned);  // ghosts get their values from their owners
+  truncate_lists(lists_, active);  // ghosts get their values from their owners
 }
 
 template <int D>
-void RateEvaluator<D>::evaluate(Particles<D>& p) {
+void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
+  active = std::min(active, p.size());
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
-      adaptive_lists<K>(p);
+      adaptive_lists<K>(p, active);
       ScopedPhase t(timers_, "density");
       compute_density(p, lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
-    const std::size_t owned = p.size();  // lists only for these (the ghosts come next)
     if (domain_) {
       Lattice<D> lattice;
       {
@@ -167,7 +171,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
     }
     {
       ScopedPhase t(timers_, "neighbour_search");
-      build_neighbour_lists(grid_, p.pos, support, lists_, owned);
+      build_neighbour_lists(grid_, p.pos, support, lists_, active);
     }
     ScopedPhase t(timers_, "density");
     compute_density(p, lists_, KernelAt<K, D>(h_), factors_);
@@ -189,6 +193,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p) {
   ++evaluations_;
   if (domain_) domain_->remove_ghosts(p);
   pairs_ += lists_.total();
+  updates_ += active;
 }
 
 template <int D>

@@ -36,7 +36,11 @@ class RateEvaluator {
   RateEvaluator(KernelType kernel, double h, PhysicsParams phys, PhaseTimers& timers,
                 Smoothing smoothing = Smoothing::Constant, double neighbours = 60.0);
 
-  void evaluate(Particles<D>& p);
+  void evaluate(Particles<D>& p) { evaluate(p, p.size()); }
+  // Block timesteps: only the first `active` particles get new h, rho, stress, acc and du_dt; the
+  // others keep their values and count as neighbours with them (as ghosts do). The active
+  // particles' interaction lists still hold every pair (r < 2 max(h_i, h_j)).
+  void evaluate(Particles<D>& p, std::size_t active);
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
   // its cells on the shared lattice, refreshes the ghosts between passes and removes them again.
@@ -61,6 +65,7 @@ class RateEvaluator {
   const PairFactors& pair_factors() const { return factors_; }
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
+  std::size_t particle_updates() const { return updates_; }  // particles given new rates, summed over evaluations
   std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
   // Memory held between evaluations, by part (bytes; capacities, scratch included): what the
   // bytes-per-particle figure of a run is made of.
@@ -68,7 +73,7 @@ class RateEvaluator {
 
  private:
   template <class K>
-  void adaptive_lists(Particles<D>& p);
+  void adaptive_lists(Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
 
   KernelType kernel_;
@@ -90,6 +95,7 @@ class RateEvaluator {
   bool gravity_ = true;
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;
+  std::size_t updates_ = 0;
   std::size_t halo_widenings_ = 0;
 };
 

@@ -401,7 +401,7 @@ class Runner {
 RunSummary Runner::advance() {
   const double t_begin = s_.time;
   const long long steps_before = s_.step;
-  std::size_t updates = 0;  // particle rate evaluations, for the throughput figure
+  std::size_t updates = 0;  // particles given new rates (all ranks), for the throughput figure
   const double h = s_.smoothing_length;
   auto old_term = std::signal(SIGTERM, on_stop_signal);
   auto old_int = std::signal(SIGINT, on_stop_signal);
@@ -414,12 +414,12 @@ RunSummary Runner::advance() {
       ScopedPhase timer(timers_, "reorder");
       p_.gather(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
     }
-    const std::size_t evals_before = rates_.evaluations();
+    const std::size_t updates_before = rates_.particle_updates();
     const std::size_t n_before = distributed() ? global_count() : p_.size();
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
     const double dt = integrator_->step(p_, dt_cap);
-    updates += n_before * (rates_.evaluations() - evals_before);
+    updates += domain_.comm().sum(std::uint64_t{rates_.particle_updates() - updates_before});
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
     if (s_.step == cfg_.inject_nan_at_step) p_.vel[0][0] = std::numeric_limits<double>::quiet_NaN();

@@ -4,6 +4,7 @@
 //    of Kepler orbits (physics.md sec. 3, "accuracy trap").
 //  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity
 //    substepped per particle inside it (leapfrog.cpp).
+//  - block: respa with individual power-of-two hydrodynamic steps (block_leapfrog.cpp).
 //  - embedded explicit Runge-Kutta with error control (the paper's "error tolerance of the time
 //    integrator", P98 sec. 5.3): Bogacki-Shampine 3(2) or Dormand-Prince 5(4).
 #include <limits>
@@ -15,7 +16,7 @@
 
 namespace sphdisk {
 
-enum class Scheme { Leapfrog, Respa, RK23, RK45 };
+enum class Scheme { Leapfrog, Respa, Block, RK23, RK45 };
 Scheme scheme_from_name(const std::string& name);
 
 struct IntegratorParams {

@@ -20,7 +20,7 @@
 #include <cmath>
 
 #include "integrate/integrator.hpp"
-#include "physics/forces.hpp"
+#include "integrate/point_mass_drift.hpp"
 
 namespace sphdisk {
 
@@ -51,7 +51,7 @@ class Leapfrog final : public Integrator<D> {
     par::for_each(n, [&](std::size_t i) {
       v_half_[i] = p.vel[i] + p.acc[i] * half;          // kick
       if (substep_gravity_) {
-        drift_in_point_mass_field(p.pos[i], v_half_[i], dt, phys.gm);
+        drift_in_point_mass_field(p.pos[i], v_half_[i], dt, phys.gm, f.substep);
       } else {
         p.pos[i] += v_half_[i] * dt;                    // drift
       }
@@ -72,19 +72,6 @@ class Leapfrog final : public Integrator<D> {
   }
 
  private:
-  // The RESPA inner loop: KDK substeps of the point-mass gravity alone over dt.
-  void drift_in_point_mass_field(Vec<D>& x, Vec<D>& v, double dt, double gm) const {
-    const double substeps = std::max(1.0, std::ceil(dt / orbital_timestep(norm(x), gm, params_.factors.substep)));
-    const double delta = dt / substeps, delta_half = 0.5 * delta;
-    Vec<D> g = point_mass_gravity(x, gm);
-    for (double s = 0; s < substeps; s += 1) {
-      v += g * delta_half;
-      x += v * delta;
-      g = point_mass_gravity(x, gm);
-      v += g * delta_half;
-    }
-  }
-
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
   bool substep_gravity_;

@@ -175,13 +175,16 @@ class EmbeddedRungeKutta final : public Integrator<D> {
 
 template <int D>
 std::unique_ptr<Integrator<D>> make_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates);
+template <int D>
+std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates);
 
 Scheme scheme_from_name(const std::string& name) {
   if (name == "leapfrog") return Scheme::Leapfrog;
   if (name == "rk23") return Scheme::RK23;
   if (name == "rk45") return Scheme::RK45;
   if (name == "respa") return Scheme::Respa;
-  throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, respa, rk23 or rk45");
+  if (name == "block") return Scheme::Block;
+  throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, respa, block, rk23 or rk45");
 }
 
 template <int D>
@@ -189,6 +192,7 @@ std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, R
   switch (params.scheme) {
     case Scheme::RK23: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, bogacki_shampine());
     case Scheme::RK45: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, dormand_prince());
+    case Scheme::Block: return make_block_leapfrog<D>(params, rates);
     case Scheme::Leapfrog:
     case Scheme::Respa: break;
   }

@@ -49,12 +49,20 @@ struct KeepAll {
   double operator()(std::size_t, std::span<const std::uint32_t>, double radius) const { return radius; }
 };
 
+// Only candidates with an index below `below` are listed; rows of cells that hold none are skipped
+// by a prefix count over the grid's slots (empty when every candidate counts).
+struct CandidateFilter {
+  std::uint32_t below = UINT32_MAX;
+  std::vector<std::uint32_t> slot_prefix;  // slot_prefix[s]: slots before s that hold a candidate below `below`
+};
+
 // Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
 template <int D, class Radius, class Settle>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
-                 Radius&& radius_of, Settle&& settle, NeighbourLists& nl) {
+                 Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {}) {
+  const bool filtered = !filter.slot_prefix.empty();
   const std::size_t n = last - first;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   auto& block_index = nl.block_index;
@@ -78,6 +86,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         const double r2 = radius * radius;
         const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
         for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
+          if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
           // Branch-free append: every candidate is written, the end advances only for neighbours.
           // About half the candidates are accepted at random, so a branch here mispredicts often.
           std::size_t end = idx.size();
@@ -86,7 +95,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           for (std::uint32_t s = s0; s < s1; ++s) {
             const std::uint32_t j = grid.sorted[s];
             out[end] = j;
-            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & (j != i));
+            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & (j != i) & (j < filter.below));
           }
           idx.resize(end);
         });
@@ -163,9 +172,16 @@ std::size_t NeighbourLists::bytes() const {
 
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
-                            const std::vector<double>& radius, NeighbourLists& nl) {
+                            const std::vector<double>& radius, NeighbourLists& nl, std::size_t candidates_below) {
   NeighbourLists more;
-  build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more);
+  CandidateFilter filter;
+  if (candidates_below < pos.size()) {
+    filter.below = static_cast<std::uint32_t>(candidates_below);
+    filter.slot_prefix.resize(grid.sorted.size() + 1, 0);
+    for (std::size_t s = 0; s < grid.sorted.size(); ++s)
+      filter.slot_prefix[s + 1] = filter.slot_prefix[s] + (grid.sorted[s] < candidates_below ? 1u : 0u);
+  }
+  build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more, filter);
   const std::size_t base = nl.index.size();
   nl.index.insert(nl.index.end(), more.index.begin(), more.index.end());
   for (std::size_t k = 1; k < more.offsets.size(); ++k) nl.offsets.push_back(base + more.offsets[k]);
@@ -179,9 +195,9 @@ template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vecto
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
                                             const SettleRadius&, NeighbourLists&, std::size_t);
 template void append_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, std::size_t,
-                                     const std::vector<double>&, NeighbourLists&);
+                                     const std::vector<double>&, NeighbourLists&, std::size_t);
 template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, std::size_t,
-                                     const std::vector<double>&, NeighbourLists&);
+                                     const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&);
 
 }  // namespace sphdisk

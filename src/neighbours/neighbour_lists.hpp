@@ -61,10 +61,13 @@ void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Ve
                                    NeighbourLists& out, std::size_t count = SIZE_MAX);
 
 // Extends lists made for particles [0, first) with gather lists (|x_i - x_j| < radius[i]) of the
-// particles [first, pos.size()).
+// particles [first, pos.size()), holding only the neighbours with an index below candidates_below
+// (all by default; fewer when only those particles' pairs are wanted, e.g. the active ones of a
+// block timestep, and then the rows of cells without any are not scanned).
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
-                            const std::vector<double>& radius, NeighbourLists& out);
+                            const std::vector<double>& radius, NeighbourLists& out,
+                            std::size_t candidates_below = SIZE_MAX);
 
 template <int D>
 NeighbourLists build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius) {

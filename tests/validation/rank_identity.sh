@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Same input, same bits over MPI: a short ring run on 2 and 3 ranks, and on 2 ranks x 2 threads,
 # must write byte-identical snapshot files to one process (particles in ID order, no timestamps),
-# with adaptive smoothing lengths (the default), with one constant h, and with gravity substepped (respa).
+# with adaptive smoothing lengths (the default), with one constant h, with gravity substepped (respa)
+# and with block timesteps.
 # Usage: rank_identity.sh SPHDISK MPIEXEC
 set -euo pipefail
 sphdisk=$1
@@ -9,9 +10,9 @@ mpiexec=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
-for variant in adaptive constant respa; do
+for variant in adaptive constant respa block; do
   smoothing=$variant scheme=leapfrog
-  [ $variant = respa ] && smoothing=adaptive scheme=respa  # gravity substepped per particle
+  case $variant in respa|block) smoothing=adaptive scheme=$variant ;; esac  # gravity substepped; block timesteps
   args=(run -q --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0
         --set "sph.smoothing=\"$smoothing\"" --set "integrator.scheme=\"$scheme\"" --set physics.accretion_radius=0.85
         "$(dirname "$0")/small_ring.toml")
@@ -19,6 +20,7 @@ for variant in adaptive constant respa; do
   runs="2 1,3 1,2 2"
   [ $variant = constant ] && runs="3 1"
   [ $variant = respa ] && runs="3 1"
+  [ $variant = block ] && runs="3 1,2 2"
   IFS=, read -ra list <<< "$runs"
   for run in "${list[@]}"; do
     set -- $run

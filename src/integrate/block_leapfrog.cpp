@@ -1,0 +1,183 @@
+// Individual block timesteps (power-of-two bins on an integer time line, as in GADGET-4, SWIFT and
+// Phantom) for the hydrodynamic forces, with the point mass's gravity substepped per particle in
+// between (the r-RESPA split of leapfrog.cpp).
+//
+// One call of step() is one block cycle of length Delta, at whose ends every particle is
+// synchronised (so checkpoints, outputs and rebalancing see the same state as with one global step):
+//   - Delta = min(dt_cap, dt_max, largest hydro step, smallest hydro step x 2^kMaxBins); the cycle
+//     has 2^kMaxBins ticks; particle i steps 2^k ticks, the largest power of two with
+//     2^k ticks <= its hydro step (hydro_timestep, timestep.hpp).
+//   - At the start of its step a particle gets the opening half kick with its acceleration; all
+//     particles move in the point mass's field between the ticks where some step ends; particles
+//     whose step ends there (the active ones) get new rates and the closing half kick, then a new
+//     step: the largest one allowed by its criteria whose ticks divide the current tick (so steps
+//     stay nested and all end together at the end of the cycle).
+//   - Inactive particles take part in the active ones' sums with their velocities predicted to the
+//     current time (v + a (t - t_mid)), their drifted positions, the h and rho of their last
+//     evaluation (as in Phantom), and the stress of their last evaluation turned with them about
+//     the central mass: in a disc the stress is nearly steady in the co-rotating (r, phi) frame, so
+//     its Cartesian components turn at the orbital frequency; left unturned, a stress half a step
+//     old would be off by Omega dt / 2 radians (the first-order error this removes was measured:
+//     tests/unit/test_integrators.cpp).
+// The active particles are moved to the front (stable partition) so the rates are computed for
+// the first n_active particles (RateEvaluator::evaluate(p, active)). Every choice depends only on
+// a particle's own state and on global minima and maxima, so results do not depend on thread or
+// rank count. With every particle in one bin this is exactly the respa scheme.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "integrate/integrator.hpp"
+#include "integrate/point_mass_drift.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+constexpr int kMaxBins = 20;  // steps down to Delta / 2^20
+constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
+
+// The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
+std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
+  std::uint64_t s = kTicks;
+  while (s > 1 && (static_cast<double>(s) * tick_duration > dt || tick % s != 0)) s >>= 1;
+  return s;
+}
+
+// S <- R S R^T for the rotation about z that takes the direction of `from` to that of `to` (x-y
+// components; z untouched in 3D).
+template <int D>
+void turn_with_orbit(Mat<D>& S, const Vec<D>& from, const Vec<D>& to) {
+  const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
+  if (!(norms > 0)) return;
+  const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
+  Mat<D> R = identity<D>(), Rt = identity<D>();
+  R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
+  Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
+  S = R * S * Rt;
+}
+
+}  // namespace
+
+template <int D>
+class BlockLeapfrog final : public Integrator<D> {
+ public:
+  BlockLeapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) : params_(params), rates_(rates) {
+    rates_.include_gravity(false);
+  }
+
+  void start(Particles<D>& p) override { rates_.evaluate(p); }
+
+  double step(Particles<D>& p, double dt_cap) override {
+    const PhysicsParams& phys = rates_.physics();
+    const TimestepFactors& f = params_.factors;
+    const std::size_t n = p.size();
+    dt_.resize(n);
+    par::for_each(n, [&](std::size_t i) { dt_[i] = hydro_timestep(p, i, phys, f); }, "integration");
+    const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt_[i]; }));
+    const double largest = rates_.global_max(
+        par::reduce(n, 0.0, [&](std::size_t i) { return dt_[i]; }, [](double a, double b) { return std::max(a, b); }));
+    const double cycle = std::min({dt_cap, params_.dt_max, largest, smallest * static_cast<double>(kTicks)});
+    const double tick = cycle / static_cast<double>(kTicks);
+
+    start_.assign(n, 0);
+    length_.resize(n);
+    v_kick_.resize(n);
+    u_half_.resize(n);
+    const bool energy = phys.evolve_energy;
+    {
+      ScopedPhase timer(rates_.timers(), "integration");
+      par::for_each(n, [&](std::size_t i) {
+        length_[i] = step_ticks(dt_[i], tick, 0);
+        open_step(p, i, tick, energy);
+      }, "integration");
+    }
+    for (std::uint64_t now = 0; now < kTicks;) {
+      const std::uint64_t next = next_tick(n);
+      const double dt = static_cast<double>(next - now) * tick;
+      std::size_t active = 0;
+      {
+        ScopedPhase timer(rates_.timers(), "integration");
+        par::for_each(n, [&](std::size_t i) {
+          const Vec<D> from = p.pos[i];
+          drift_in_point_mass_field(p.pos[i], v_kick_[i], dt, phys.gm, f.substep);
+          turn_with_orbit(p.stress[i], from, p.pos[i]);  // active particles get theirs anew
+          // predicted to `next`: t - t_mid = (next - start - length / 2) ticks
+          const double ahead = (static_cast<double>(next - start_[i]) - 0.5 * static_cast<double>(length_[i])) * tick;
+          p.vel[i] = v_kick_[i] + p.acc[i] * ahead;
+          if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * ahead;
+        }, "integration");
+        active = move_active_to_front(p, next);
+      }
+      rates_.evaluate(p, active);
+      ScopedPhase timer(rates_.timers(), "integration");
+      par::for_each(active, [&](std::size_t i) {
+        const double half = 0.5 * static_cast<double>(length_[i]) * tick;
+        p.vel[i] = v_kick_[i] + p.acc[i] * half;  // closing kick
+        if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
+        if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
+        start_[i] = next;
+        length_[i] = step_ticks(hydro_timestep(p, i, phys, f), tick, next);
+        open_step(p, i, tick, energy);
+      }, "integration");
+      now = next;
+    }
+    return cycle;
+  }
+
+ private:
+  void open_step(const Particles<D>& p, std::size_t i, double tick, bool energy) {
+    const double half = 0.5 * static_cast<double>(length_[i]) * tick;
+    v_kick_[i] = p.vel[i] + p.acc[i] * half;
+    if (energy) u_half_[i] = p.u[i] + p.du_dt[i] * half;
+  }
+
+  std::uint64_t next_tick(std::size_t n) const {
+    const double mine = smallest_timestep(n, [&](std::size_t i) { return static_cast<double>(start_[i] + length_[i]); });
+    return static_cast<std::uint64_t>(rates_.global_min(mine));  // ticks < 2^53: exact as doubles
+  }
+
+  // Stable partition of the particles (and this integrator's per-particle state) into those whose
+  // step ends at `tick` and the rest; returns the number of the first.
+  std::size_t move_active_to_front(Particles<D>& p, std::uint64_t tick) {
+    const std::size_t n = p.size();
+    order_.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (start_[i] + length_[i] == tick) order_.push_back(static_cast<std::uint32_t>(i));
+    const std::size_t active = order_.size();
+    if (active == n) return active;
+    for (std::size_t i = 0; i < n; ++i)
+      if (start_[i] + length_[i] != tick) order_.push_back(static_cast<std::uint32_t>(i));
+    p.gather(order_);
+    permute(start_);
+    permute(length_);
+    permute(v_kick_);
+    permute(u_half_);
+    return active;
+  }
+
+  template <class T>
+  void permute(std::vector<T>& v) const {
+    std::vector<T> out(v.size());
+    for (std::size_t k = 0; k < order_.size(); ++k) out[k] = v[order_[k]];
+    v.swap(out);
+  }
+
+  IntegratorParams params_;
+  RateEvaluator<D>& rates_;
+  std::vector<double> dt_;
+  std::vector<std::uint64_t> start_, length_;  // ticks
+  std::vector<Vec<D>> v_kick_;  // velocity after the opening kick, moved in the point-mass field since
+  std::vector<double> u_half_;
+  std::vector<std::uint32_t> order_;
+};
+
+template <int D>
+std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) {
+  return std::make_unique<BlockLeapfrog<D>>(params, rates);
+}
+
+template std::unique_ptr<Integrator<2>> make_block_leapfrog(const IntegratorParams&, RateEvaluator<2>&);
+template std::unique_ptr<Integrator<3>> make_block_leapfrog(const IntegratorParams&, RateEvaluator<3>&);
+
+}  // namespace sphdisk
