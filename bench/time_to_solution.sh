@@ -23,7 +23,7 @@ variants=("$@")
 out=runs/time_to_solution/N$n
 mkdir -p "$out"
 summary=$out/summary.csv
-[ -f "$summary" ] || echo "date,label,settings,particles,threads,wall_s,steps,evaluations,pair_interactions,mass_sigma_l1,sigma_l1,vr_drift_l1" > "$summary"
+[ -f "$summary" ] || echo "date,label,settings,particles,threads,wall_s,steps,evaluations,particle_updates,pair_interactions,mass_sigma_l1,sigma_l1,vr_drift_l1" > "$summary"
 for v in "${variants[@]}"; do
   label=${v%%=*} settings=${v#*=}
   sets=()
@@ -41,7 +41,7 @@ a = json.load(open(f"{d}/analysis.json"))
 run = json.load(open(f"{d}/ranks.json"))
 rows = list(csv.DictReader(open(f"{d}/diagnostics.csv")))
 print(f"{__import__('datetime').date.today()},{label},\"{settings.replace(chr(34), chr(34) * 2)}\",{n},{threads},{float(end) - float(start):.1f},"
-      f"{rows[-1]['step']},{run[0]['rate_evaluations']},{sum(r['pair_interactions'] for r in run)},"
+      f"{rows[-1]['step']},{run[0]['rate_evaluations']},{sum(r.get('particle_updates', 0) for r in run)},{sum(r['pair_interactions'] for r in run)},"
       f"{a['mass_sigma_l1']:.4f},{a['sigma_l1']:.4f},{a['vr_drift_l1']:.4f}")
 PY
   tail -1 "$summary"
