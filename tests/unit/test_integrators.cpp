@@ -67,23 +67,23 @@ Drift kepler_drift(const IntegratorParams& ip, std::size_t n, double orbits) {
   return d;
 }
 
+void expect_kepler_rings_on_their_circles(const IntegratorParams& ip, std::size_t n, double orbits, const char* name) {
+  const Drift d = kepler_drift(ip, n, orbits);
+  std::printf("%s: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", name, d.guiding_centre, d.semi_major);
+  EXPECT_LE(d.guiding_centre, 1e-6);
+  EXPECT_LE(d.semi_major, 1e-6);
+}
+
 }  // namespace
 
 TEST(Integrators, LeapfrogKeepsKeplerRingsOnTheirCircles) {
-  IntegratorParams ip;  // the default: KDK leapfrog, orbital factor 0.25
-  const Drift d = kepler_drift(ip, 500, 10);
-  std::printf("leapfrog: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
-  EXPECT_LE(d.guiding_centre, 1e-6);
-  EXPECT_LE(d.semi_major, 1e-6);
+  expect_kepler_rings_on_their_circles(IntegratorParams{}, 500, 10, "leapfrog");  // the default, orbital factor 0.25
 }
 
 TEST(Integrators, RespaKeepsKeplerRingsOnTheirCircles) {
   IntegratorParams ip;
   ip.scheme = Scheme::Respa;  // with nu = 0 the hydro step is the orbital limit; gravity substepped inside
-  const Drift d = kepler_drift(ip, 500, 10);
-  std::printf("respa: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
-  EXPECT_LE(d.guiding_centre, 1e-6);
-  EXPECT_LE(d.semi_major, 1e-6);
+  expect_kepler_rings_on_their_circles(ip, 500, 10, "respa");
 }
 
 // Block timesteps with nu = 0: the orbital limit puts the particles in several bins; the integer
@@ -91,20 +91,14 @@ TEST(Integrators, RespaKeepsKeplerRingsOnTheirCircles) {
 TEST(Integrators, BlockTimestepsKeepKeplerRingsOnTheirCircles) {
   IntegratorParams ip;
   ip.scheme = Scheme::Block;
-  const Drift d = kepler_drift(ip, 500, 10);
-  std::printf("block: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
-  EXPECT_LE(d.guiding_centre, 1e-6);
-  EXPECT_LE(d.semi_major, 1e-6);
+  expect_kepler_rings_on_their_circles(ip, 500, 10, "block");
 }
 
 TEST(Integrators, RungeKuttaWithTightToleranceKeepsKeplerRings) {
   IntegratorParams ip;
   ip.scheme = Scheme::RK45;
   ip.tolerance = 1e-9;
-  const Drift d = kepler_drift(ip, 300, 6);
-  std::printf("rk45 1e-9: guiding-centre drift %.3e, semi-major-axis drift %.3e per orbit\n", d.guiding_centre, d.semi_major);
-  EXPECT_LE(d.guiding_centre, 1e-6);
-  EXPECT_LE(d.semi_major, 1e-6);
+  expect_kepler_rings_on_their_circles(ip, 300, 6, "rk45 1e-9");
 }
 
 // A loose tolerance visibly spoils the orbits (the paper's 500k run, P98 sec. 5.3): the error
