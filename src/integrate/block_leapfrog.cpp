@@ -6,7 +6,7 @@
 // synchronised (so checkpoints, outputs and rebalancing see the same state as with one global step):
 //   - Delta = min(dt_cap, dt_max, largest hydro step, smallest hydro step x 2^kMaxBins); the cycle
 //     has 2^kMaxBins ticks; particle i steps 2^k ticks, the largest power of two with
-//     2^k ticks <= its hydro step (hydro_timestep, timestep.hpp).
+//     2^k ticks <= its hydro step (particle_timestep on the SPH acceleration, timestep.hpp).
 //   - At the start of its step a particle gets the opening half kick with its acceleration; all
 //     particles move in the point mass's field between the ticks where some step ends; particles
 //     whose step ends there (the active ones) get new rates and the closing half kick, then a new
@@ -73,7 +73,7 @@ class BlockLeapfrog final : public Integrator<D> {
     const TimestepFactors& f = params_.factors;
     const std::size_t n = p.size();
     dt_.resize(n);
-    par::for_each(n, [&](std::size_t i) { dt_[i] = hydro_timestep(p, i, phys, f); }, "integration");
+    par::for_each(n, [&](std::size_t i) { dt_[i] = particle_timestep(p, i, phys, f); }, "integration");
     const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt_[i]; }));
     const double largest = rates_.global_max(
         par::reduce(n, 0.0, [&](std::size_t i) { return dt_[i]; }, [](double a, double b) { return std::max(a, b); }));
@@ -117,7 +117,7 @@ class BlockLeapfrog final : public Integrator<D> {
         if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
         if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
         start_[i] = next;
-        length_[i] = step_ticks(hydro_timestep(p, i, phys, f), tick, next);
+        length_[i] = step_ticks(particle_timestep(p, i, phys, f), tick, next);
         open_step(p, i, tick, energy);
       }, "integration");
       now = next;

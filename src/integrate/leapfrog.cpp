@@ -12,7 +12,7 @@
 // Why: the point-mass field is cheap and stiff near the centre, the SPH forces are expensive and
 // vary slowly. With gravity in the force criterion sqrt(h/|a|) the plain leapfrog's global step is
 // set by |g|, not by the SPH forces; here the SPH forces are evaluated on their own step
-// (hydro_timestep, timestep.hpp) and each particle follows its orbit with its own number of
+// (particle_timestep on the SPH acceleration, timestep.hpp) and each particle follows its orbit with its own number of
 // substeps n_i = ceil(dt / (C_sub / Omega_i)), which depends only on its own state (so not on
 // thread or rank count). Both parts are symplectic KDK schemes: no secular drift of Kepler orbits.
 // acc then holds the hydrodynamic acceleration only (RateEvaluator::include_gravity(false)).
@@ -37,10 +37,8 @@ class Leapfrog final : public Integrator<D> {
   double step(Particles<D>& p, double dt_cap) override {
     const PhysicsParams& phys = rates_.physics();
     const TimestepFactors& f = params_.factors;
-    const double dt_limit = substep_gravity_
-        ? smallest_timestep(p.size(), [&](std::size_t i) { return hydro_timestep(p, i, phys, f); })
-        : explicit_timestep(p, phys, f);
-    const double dt = std::min({dt_cap, params_.dt_max, rates_.global_min(dt_limit)});
+    // with gravity substepped, acc is the SPH part only: the step is the SPH forces' own
+    const double dt = std::min({dt_cap, params_.dt_max, rates_.global_min(explicit_timestep(p, phys, f))});
     const double half = 0.5 * dt;
     const bool energy = phys.evolve_energy;
     const std::size_t n = p.size();

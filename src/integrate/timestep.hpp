@@ -40,18 +40,11 @@ inline double stability_timestep(double h, const PhysicsParams& phys, const Time
   return dt;
 }
 
+// With gravity substepped (respa, block) acc holds the hydrodynamic acceleration only, so the same
+// criteria give the SPH forces' own step: the force criterion sees the SPH forces alone (Phantom's
+// dtforce) and the orbital limit keeps them sampled several times per orbit.
 template <int D>
 double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
-  const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
-                             force_timestep(p.h[i], norm(p.acc[i]), f.force));
-  return std::min(dt, stability_timestep(p.h[i], phys, f));
-}
-
-// The step of the hydrodynamic forces when gravity is substepped: acc holds the hydrodynamic
-// acceleration only, so the force criterion sees the SPH forces alone (Phantom's dtforce); the
-// orbital limit keeps the viscous forces sampled several times per orbit.
-template <int D>
-double hydro_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
   const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
                              force_timestep(p.h[i], norm(p.acc[i]), f.force));
   return std::min(dt, stability_timestep(p.h[i], phys, f));
