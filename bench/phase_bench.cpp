@@ -10,6 +10,7 @@
 
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
+#include "neighbours/pair_lists.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/viscous_stress.hpp"
@@ -19,6 +20,7 @@ namespace {
 using namespace sphdisk;
 
 constexpr double kNeighbours = 60;
+constexpr int kTileCells = 16;  // as a run with constant h uses (app/rate_evaluator.cpp)
 
 // Everything a phase needs, evaluated once up to that phase.
 struct Fixture {
@@ -27,7 +29,10 @@ struct Fixture {
   double h = 0;
   CellGrid<2> grid;
   NeighbourLists lists;
+  PairLists pairs;
   PairFactors factors;
+  std::vector<GradientSums<2>> sums;
+  ForceScratch scratch;
 
   explicit Fixture(std::size_t n) {
     RingSetup setup;
@@ -39,8 +44,9 @@ struct Fixture {
     p.gather(build_cell_grid(p.pos, p.id, h).sorted);
     build_cell_grid(p.pos, p.id, h, grid);
     build_neighbour_lists(grid, p.pos, 2 * h, lists);
-    compute_density(p, lists, KernelAt<CubicSpline, 2>(h), factors);
-    compute_viscous_stress(p, lists, factors, phys);
+    build_pair_lists(lists, grid, kTileCells, pairs);
+    compute_density(p, pairs, KernelAt<CubicSpline, 2>(h), factors);
+    compute_viscous_stress(p, pairs, factors, phys, sums);
   }
 };
 
@@ -71,30 +77,38 @@ void BM_NeighbourSearch(benchmark::State& state) {
   finish(state, n, f.lists);
 }
 
+void BM_HalfLists(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Fixture& f = fixture(n);
+  for (auto _ : state) build_pair_lists(f.lists, f.grid, kTileCells, f.pairs);
+  finish(state, n, f.lists);
+}
+
 void BM_Density(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_density(f.p, f.lists, KernelAt<CubicSpline, 2>(f.h), f.factors);
+  for (auto _ : state) compute_density(f.p, f.pairs, KernelAt<CubicSpline, 2>(f.h), f.factors);
   finish(state, n, f.lists);
 }
 
 void BM_VelocityGradient(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_viscous_stress(f.p, f.lists, f.factors, f.phys);
+  for (auto _ : state) compute_viscous_stress(f.p, f.pairs, f.factors, f.phys, f.sums);
   finish(state, n, f.lists);
 }
 
 void BM_Forces(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_accelerations(f.p, f.lists, f.factors, f.phys);
+  for (auto _ : state) compute_accelerations(f.p, f.pairs, f.factors, f.phys, f.scratch);
   finish(state, n, f.lists);
 }
 
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
 SPHDISK_PHASE(BM_CellBuild);
 SPHDISK_PHASE(BM_NeighbourSearch);
+SPHDISK_PHASE(BM_HalfLists);
 SPHDISK_PHASE(BM_Density);
 SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);

@@ -14,9 +14,12 @@
 #include "domain/particle_domain.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
+#include "neighbours/pair_lists.hpp"
 #include "physics/kernels.hpp"
 #include "physics/pair_factors.hpp"
+#include "physics/forces.hpp"
 #include "physics/physics_params.hpp"
+#include "physics/viscous_stress.hpp"
 
 namespace sphdisk {
 
@@ -61,10 +64,15 @@ class RateEvaluator {
   const PhysicsParams& physics() const { return phys_; }
   KernelType kernel() const { return kernel_; }
   PhaseTimers& timers() { return timers_; }
+  // Adaptive h: the interaction lists of the particles given new rates (pairs from both sides).
+  // Constant h searches each pair once (pair_lists()) and leaves these empty.
   const NeighbourLists& neighbours() const { return lists_; }
-  const PairFactors& pair_factors() const { return factors_; }
+  const PairLists& pair_lists() const { return pairs_lists_; }  // each pair once (pair_lists.hpp)
+  const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
+  // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp).
+  const std::vector<GradientSums<D>>& gradient_sums() const { return gradient_sums_; }
   std::size_t evaluations() const { return evaluations_; }
-  std::size_t pair_interactions() const { return pairs_; }  // summed over all evaluations
+  std::size_t pair_interactions() const { return pairs_; }  // pairs evaluated (each once per pair loop), summed over evaluations
   std::size_t particle_updates() const { return updates_; }  // particles given new rates, summed over evaluations
   std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
   // Memory held between evaluations, by part (bytes; capacities, scratch included): what the
@@ -75,6 +83,8 @@ class RateEvaluator {
   template <class K>
   void adaptive_lists(Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
+  void build_pairs();
+  int tile_cells() const;
 
   KernelType kernel_;
   double h_;
@@ -91,7 +101,12 @@ class RateEvaluator {
   std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
-  PairFactors factors_;    // kernel-gradient factor of every list entry (pair_factors.hpp)
+  PairLists pairs_lists_;  // the interaction lists' pairs, each once
+  double widest_support_ = 0;  // support radius that the pair schedule's tiles span
+  PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
+  std::vector<GradientSums<D>> gradient_sums_;
+  std::vector<Mat<D>> heating_scratch_;
+  ForceScratch force_scratch_;
   bool gravity_ = true;
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;

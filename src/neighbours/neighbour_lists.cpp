@@ -43,10 +43,64 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, 
   }
 }
 
+// The candidates that come after slot `after` (x's own slot) in cell order: the rest of x's own row
+// of cells, then the rows above (and in 3D the layers above) within `reach` cells: each pair is
+// seen from its first particle only (P98's symmetric sequential variant, Fig. 4).
+template <int D, class F>
+void for_each_later_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, std::uint32_t after, F&& f) {
+  std::array<int, D> c;
+  for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = g.coord(x[k], k);
+  const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
+  auto row = [&](std::array<int, D> cell, bool own_row) {
+    cell[0] = x1;
+    const std::uint32_t end = g.offsets[g.linear(cell) + 1];
+    cell[0] = x0;
+    f(own_row ? after + 1 : g.offsets[g.linear(cell)], end);
+  };
+  std::array<int, D> r = c;
+  if constexpr (D == 1) {
+    row(r, true);
+  } else if constexpr (D == 2) {
+    for (int y = c[1]; y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
+      r[1] = y;
+      row(r, y == c[1]);
+    }
+  } else {
+    for (int z = c[2]; z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
+      for (int y = z == c[2] ? c[1] : std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
+        r[1] = y;
+        r[2] = z;
+        row(r, z == c[2] && y == c[1]);
+      }
+  }
+}
+
 constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
 
 struct KeepAll {
   double operator()(std::size_t, std::span<const std::uint32_t>, double radius) const { return radius; }
+};
+
+// Every candidate other than i itself, in the full stencil around i.
+struct AllOthers {
+  static constexpr bool kHalf = false;
+  std::uint32_t slot_of(std::size_t) const { return 0; }
+  auto for_particle(std::size_t i) const {
+    return [i](std::uint32_t j) { return j != i; };
+  }
+};
+
+// Half lists (pair_lists.hpp): the candidates after i in cell order, of pairs with a writable particle.
+struct LaterOfWritablePairs {
+  static constexpr bool kHalf = true;
+  const std::vector<std::uint32_t>& slot;
+  std::size_t writable;
+  std::uint32_t slot_of(std::size_t i) const { return slot[i]; }
+  auto for_particle(std::size_t i) const {
+    const bool i_writable = i < writable;
+    const std::size_t m = writable;
+    return [=](std::uint32_t j) { return i_writable | (j < m); };
+  }
 };
 
 // Only candidates with an index below `below` are listed; rows of cells that hold none are skipped
@@ -59,9 +113,12 @@ struct CandidateFilter {
 // Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
-template <int D, class Radius, class Settle>
+// keep: which candidates are scanned (Keep::kHalf: only those after i in cell order) and
+// keep.for_particle(i)(j) whether candidate j may be i's neighbour.
+template <int D, class Radius, class Settle, class Keep = AllOthers>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
-                 Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {}) {
+                 Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
+                 const Keep& keep = {}) {
   const bool filtered = !filter.slot_prefix.empty();
   const std::size_t n = last - first;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
@@ -81,11 +138,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     idx.clear();
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
+      const auto keep_i = keep.for_particle(i);
       const std::size_t before = idx.size();
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
         const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
-        for_each_candidate_range<D>(grid, xi, reach, [&](std::uint32_t s0, std::uint32_t s1) {
+        const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
           if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
           // Branch-free append: every candidate is written, the end advances only for neighbours.
           // About half the candidates are accepted at random, so a branch here mispredicts often.
@@ -95,10 +153,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           for (std::uint32_t s = s0; s < s1; ++s) {
             const std::uint32_t j = grid.sorted[s];
             out[end] = j;
-            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & (j != i) & (j < filter.below));
+            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & keep_i(j) & (j < filter.below));
           }
           idx.resize(end);
-        });
+        };
+        if constexpr (Keep::kHalf) for_each_later_candidate_range<D>(grid, xi, reach, keep.slot_of(i), scan);
+        else for_each_candidate_range<D>(grid, xi, reach, scan);
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
         if (keep > radius) {  // search again, wider
           idx.resize(before);
@@ -141,6 +201,13 @@ template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& nl,
                            std::size_t count) {
   build_lists(grid, pos, 0, std::min(count, pos.size()), [radius](std::size_t) { return radius; }, KeepAll{}, nl);
+}
+
+template <int D>
+void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
+                                const std::vector<std::uint32_t>& slot, std::size_t writable, NeighbourLists& nl) {
+  build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl, CandidateFilter{},
+              LaterOfWritablePairs{slot, writable});
 }
 
 void truncate_lists(NeighbourLists& nl, std::size_t count) {
@@ -199,6 +266,10 @@ template void append_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2
 template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, std::size_t,
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&);
+template void build_half_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, const std::vector<std::uint32_t>&,
+                                         std::size_t, NeighbourLists&);
+template void build_half_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, const std::vector<std::uint32_t>&,
+                                         std::size_t, NeighbourLists&);
 
 }  // namespace sphdisk
 

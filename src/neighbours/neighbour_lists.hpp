@@ -38,6 +38,14 @@ template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius, NeighbourLists& out,
                            std::size_t count = SIZE_MAX);
 
+// Half lists for evaluating each pair once (pair_lists.hpp): j is in i's list when
+// |x_i - x_j| < radius, j comes after i in cell order (slot[j] > slot[i], slot: each particle's
+// place in grid.sorted) and i or j is below `writable`. Only the half of the stencil after i is
+// scanned. Lists for all particles.
+template <int D>
+void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
+                                const std::vector<std::uint32_t>& slot, std::size_t writable, NeighbourLists& out);
+
 // Keeps the lists of the first `count` particles.
 void truncate_lists(NeighbourLists& nl, std::size_t count);
 

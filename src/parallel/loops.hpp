@@ -45,6 +45,17 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 #endif
 }
 
+// Coloured work items: colour c holds items [colour_start[c], colour_start[c + 1]). Colours run one
+// after the other; the items of one colour run in parallel (dynamically balanced), so items that
+// write to common data must get different colours (neighbours/pair_lists.hpp).
+template <class F>
+void for_each_coloured(const std::vector<std::size_t>& colour_start, F&& f, std::string_view trace_label = {}) {
+  for (std::size_t c = 0; c + 1 < colour_start.size(); ++c) {
+    const std::size_t first = colour_start[c];
+    for_each(colour_start[c + 1] - first, [&](std::size_t k) { f(first + k); }, trace_label, 1);
+  }
+}
+
 // Deterministic reduction: blocks of kBlock elements are reduced in index order, then the block
 // partials are combined serially in block order. Same bits for any thread count.
 inline constexpr std::size_t kReduceBlock = 4096;

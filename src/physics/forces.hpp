@@ -7,14 +7,14 @@
 // With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
 // Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
-// The viscous sum is evaluated factored, with no division in the pair loop:
-//   sum_j m_j (S_i/rho_j + S_j/rho_i) g_j = S_i . sum_j (m_j/rho_j) g_j + (1/rho_i) sum_j m_j S_j . g_j.
 // Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
 // Writes: acc, du_dt.
 #include <cmath>
+#include <vector>
 
 #include "core/particles.hpp"
-#include "neighbours/neighbour_lists.hpp"
+#include "core/snug_resize.hpp"
+#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
@@ -29,42 +29,57 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
   return x * (-gm / (r2 * r));
 }
 
-template <int D>
-Vec<D> hydro_acceleration_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F,
-                             const PhysicsParams& phys, double& du_dt_pressure) {
-  const Vec<D> xi = p.pos[i], vi = p.vel[i];
-  const double inv_rho_i = 1.0 / p.rho[i];
-  const Mat<D>& Si = p.stress[i];
-  const bool with_pressure = phys.eos != EquationOfState::None;
-  const double Pi_rho2 = with_pressure ? pressure(phys, p.rho[i]) * inv_rho_i * inv_rho_i : 0.0;
-  Vec<D> vol_grad, stress_grad, a_pressure;  // sum (m_j/rho_j) g, sum m_j S_j . g
-  double work = 0.0;
-  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
-    const std::uint32_t j = nl.index[k];
-    Vec<D> gradW = (xi - p.pos[j]) * static_cast<double>(F[k]);
-    if (phys.force_correction) gradW = corrected_pair_gradient(p.correction[i], p.correction[j], gradW);
-    const double mj = p.mass[j];
-    vol_grad += gradW * p.volume[j];
-    stress_grad += contract(p.stress[j], gradW) * mj;
-    if (with_pressure) {
-      const double rho_j = p.rho[j];
-      const double Pj_rho2 = pressure(phys, rho_j) / (rho_j * rho_j);
-      a_pressure -= gradW * (mj * (Pi_rho2 + Pj_rho2));
-      work += mj * dot(vi - p.vel[j], gradW);
-    }
-  }
-  du_dt_pressure = Pi_rho2 * work;
-  return contract(Si, vol_grad) + stress_grad * inv_rho_i + a_pressure;
-}
+// Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
+struct ForceScratch {
+  std::vector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (0 without pressure)
+};
 
+// Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
+//   a_i += m_j X . g,  a_j -= m_i X . g,   X = S_i / rho_j + S_j / rho_i - (P_i/rho_i^2 + P_j/rho_j^2) I,
+// with g = grad_i W_ij = -grad_j W_ij (or G_ij), and the pressure work (P/rho^2) m (v_i - v_j) . g
+// for both, as (v_j - v_i) . grad_j W = (v_i - v_j) . g.
 template <int D>
-void compute_accelerations(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys,
-                           bool with_gravity = true) {
-  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
-    double du_pressure = 0.0;
-    p.acc[i] = hydro_acceleration_at(i, p, nl, F, phys, du_pressure);
-    if (with_gravity) p.acc[i] += point_mass_gravity(p.pos[i], phys.gm);
-    p.du_dt[i] += du_pressure;
+void compute_accelerations(Particles<D>& p, const PairLists& pl, const PairFactors& F, const PhysicsParams& phys,
+                           ForceScratch& scratch, bool with_gravity = true) {
+  const std::size_t m = pl.writable;
+  const bool with_pressure = phys.eos != EquationOfState::None;
+  auto& inv_rho = scratch.inv_rho;
+  auto& Pr = scratch.p_over_rho2;
+  resize_snug(inv_rho, p.size());
+  resize_snug(Pr, p.size());
+  par::for_each(p.size(), [&](std::size_t i) {
+    inv_rho[i] = 1.0 / p.rho[i];
+    Pr[i] = with_pressure ? pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i] : 0.0;
+    if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
+  }, "forces");
+  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+    const Vec<D> xi = p.pos[i], vi = p.vel[i];
+    const Mat<D>& Si = p.stress[i];
+    const double mi = p.mass[i], inv_rho_i = inv_rho[i], Pr_i = Pr[i];
+    Vec<D> ai;
+    double du_i = 0.0;
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      Vec<D> g = (xi - p.pos[j]) * static_cast<double>(F[k0 + q]);
+      if (phys.force_correction) g = corrected_pair_gradient(p.correction[i], p.correction[j], g);
+      Mat<D> X;
+      const Mat<D>& Sj = p.stress[j];
+      for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * inv_rho[j] + Sj.c[c] * inv_rho_i;
+      Vec<D> f = contract(X, g);
+      const double mj = p.mass[j];
+      if (with_pressure) {
+        f -= g * (Pr_i + Pr[j]);
+        const double work = dot(vi - p.vel[j], g);
+        du_i += Pr_i * mj * work;
+        if (j < m) p.du_dt[j] += Pr[j] * mi * work;
+      }
+      ai += f * mj;
+      if (j < m) p.acc[j] -= f * mi;
+    }
+    if (i < m) {
+      p.acc[i] += ai;
+      p.du_dt[i] += du_i;
+    }
   }, "forces");
 }
 

@@ -7,9 +7,11 @@
 //   m_j (nu_j sigma_j / rho_i + nu_i sigma_i / rho_j) = m_j (S_j / rho_i + S_i / rho_j).
 // Viscous heating du_i/dt = S_i : V_i (physics.md sec. 2: sigma:V, not sigma:sigma/2) makes the
 // kinetic + internal energy exactly conserved together with the force of forces.hpp.
+// Pair sums visit each pair once (pair_lists.hpp).
 // Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part).
 #include "core/particles.hpp"
-#include "neighbours/neighbour_lists.hpp"
+#include "core/snug_resize.hpp"
+#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
@@ -24,27 +26,42 @@ struct GradientSums {
   Mat<D> V, M;
 };
 
+// Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
+// gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each
+// with the other's volume.
 template <int D>
-GradientSums<D> gradient_sums_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  const Vec<D> xi = p.pos[i], vi = p.vel[i];
-  GradientSums<D> g;
-  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
-    const std::uint32_t j = nl.index[k];
-    const Vec<D> dx = xi - p.pos[j];
-    const double f = p.volume[j] * static_cast<double>(F[k]);  // (m_j / rho_j) W_,b / dx_b
-    const Vec<D> dv = p.vel[j] - vi;
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) {
-        g.V(a, b) += f * dv[a] * dx[b];
-        g.M(a, b) -= f * dx[a] * dx[b];
-      }
-  }
-  return g;
+void add_gradient_terms(GradientSums<D>& g, double f, const Vec<D>& dv, const Vec<D>& dx) {
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) {
+      g.V(a, b) += f * dv[a] * dx[b];
+      g.M(a, b) -= f * dx[a] * dx[b];
+    }
 }
 
+// The sums of every writable particle (pl.writable), each pair visited once.
 template <int D>
-Mat<D> velocity_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  return gradient_sums_at(i, p, nl, F).V;
+void sum_gradients(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<GradientSums<D>>& sums) {
+  const std::size_t m = pl.writable;
+  resize_snug(sums, m);
+  par::for_each(m, [&](std::size_t i) { sums[i] = GradientSums<D>{}; }, "velocity_gradient");
+  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+    const Vec<D> xi = p.pos[i], vi = p.vel[i];
+    const double Vi = p.volume[i];
+    GradientSums<D> gi;
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      const Vec<D> dx = xi - p.pos[j];
+      const Vec<D> dv = p.vel[j] - vi;
+      const double f = static_cast<double>(F[k0 + q]);
+      add_gradient_terms(gi, f * p.volume[j], dv, dx);
+      if (j < m) add_gradient_terms(sums[j], f * Vi, dv, dx);
+    }
+    if (i < m)
+      for (std::size_t c = 0; c < gi.V.c.size(); ++c) {
+        sums[i].V.c[c] += gi.V.c[c];
+        sums[i].M.c[c] += gi.M.c[c];
+      }
+  }, "velocity_gradient");
 }
 
 // The gradient made exact for linear velocity fields on any particle set: V M^-1. M is the
@@ -76,26 +93,23 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
 // force's pair operator G_ij,
 //   V^G_i = sum_j (m_j/rho_j) (v_j - v_i) (x) G_ij = (V C_i + sum_j (m_j/rho_j) (v_j - v_i) (x) C_j grad W) / 2,
 // to keep kinetic + internal energy exactly conserved. The first half needs only particle i and is
-// added in the first pass; this is the second half, which needs p.correction of every neighbour.
+// added in compute_viscous_stress; add_force_corrected_heating adds the second half, which needs
+// p.correction of every neighbour. For j the pair term is dv (x) C_i (dx V_i F) (same sign argument
+// as add_gradient_terms).
 template <int D>
-Mat<D> neighbour_corrected_gradient_at(std::size_t i, const Particles<D>& p, const NeighbourLists& nl,
-                                       const PairFactors& F) {
-  const Vec<D> xi = p.pos[i], vi = p.vel[i];
-  Mat<D> H;
-  for (std::size_t k = nl.offsets[i]; k < nl.offsets[i + 1]; ++k) {
-    const std::uint32_t j = nl.index[k];
-    const Vec<D> g = contract(p.correction[j], (xi - p.pos[j]) * (p.volume[j] * static_cast<double>(F[k])));
-    const Vec<D> dv = p.vel[j] - vi;
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
-  }
-  return H;
+void add_neighbour_corrected_terms(Mat<D>& H, const Mat<D>& C_other, double f, const Vec<D>& dv, const Vec<D>& dx) {
+  const Vec<D> g = contract(C_other, dx * f);
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
 }
 
+// sums: scratch, the writable particles' gradient sums (kept for inspection).
 template <int D>
-void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F, const PhysicsParams& phys) {
-  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
-    const GradientSums<D> g = gradient_sums_at(i, p, nl, F);
+void compute_viscous_stress(Particles<D>& p, const PairLists& pl, const PairFactors& F, const PhysicsParams& phys,
+                            std::vector<GradientSums<D>>& sums) {
+  sum_gradients(p, pl, F, sums);
+  par::for_each(pl.writable, [&](std::size_t i) {
+    const GradientSums<D>& g = sums[i];
     p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
     if (phys.force_correction) {
       p.correction[i] = correction_from_moments(g.M);
@@ -108,13 +122,30 @@ void compute_viscous_stress(Particles<D>& p, const NeighbourLists& nl, const Pai
   }, "velocity_gradient");
 }
 
-// The second half of the heating with the force correction (see neighbour_corrected_gradient_at);
-// reads every neighbour's p.correction, so it runs after compute_viscous_stress has set them all.
+// The second half of the heating with the force correction; reads every neighbour's p.correction,
+// so it runs after compute_viscous_stress has set them all (and the ghosts' have been refreshed).
+// H: scratch.
 template <int D>
-void add_force_corrected_heating(Particles<D>& p, const NeighbourLists& nl, const PairFactors& F) {
-  par::for_each(nl.size(), [&](std::size_t i) {  // the particles with lists (density.hpp)
-    p.du_dt[i] += 0.5 * double_dot(p.stress[i], neighbour_corrected_gradient_at(i, p, nl, F));
+void add_force_corrected_heating(Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<Mat<D>>& H) {
+  const std::size_t m = pl.writable;
+  resize_snug(H, m);
+  par::for_each(m, [&](std::size_t i) { H[i] = Mat<D>{}; }, "velocity_gradient");
+  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+    const Vec<D> xi = p.pos[i], vi = p.vel[i];
+    const double Vi = p.volume[i];
+    Mat<D> Hi;
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      const Vec<D> dx = xi - p.pos[j];
+      const Vec<D> dv = p.vel[j] - vi;
+      const double f = static_cast<double>(F[k0 + q]);
+      add_neighbour_corrected_terms(Hi, p.correction[j], f * p.volume[j], dv, dx);
+      if (j < m) add_neighbour_corrected_terms(H[j], p.correction[i], f * Vi, dv, dx);
+    }
+    if (i < m)
+      for (std::size_t c = 0; c < Hi.c.size(); ++c) H[i].c[c] += Hi.c[c];
   }, "velocity_gradient");
+  par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(p.stress[i], H[i]); }, "velocity_gradient");
 }
 
 }  // namespace sphdisk

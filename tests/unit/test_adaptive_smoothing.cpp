@@ -158,7 +158,7 @@ TEST(SmoothingLength, ConservationAndLinearExactnessWithVariableH) {
   rates.evaluate(p);
   double worst = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const Mat<2> G = corrected_gradient(gradient_sums_at(i, p, rates.neighbours(), rates.pair_factors()));
+    const Mat<2> G = corrected_gradient(rates.gradient_sums()[i]);
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) worst = std::max(worst, std::abs(G(a, b) - A[a][b]));
   }

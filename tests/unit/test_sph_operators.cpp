@@ -65,7 +65,7 @@ void check_linear_gradient(double eta, double tolerance_vs_exact) {
       const Vec<2> dx = e.p.pos[i] - e.p.pos[j];
       c -= e.p.mass[j] / e.p.rho[j] * dx[0] * dx[0] * kern.dW_over_r(norm(dx));
     }
-    const Mat<2> V = velocity_gradient_at(i, e.p, rates.neighbours(), rates.pair_factors());
+    const Mat<2> V = rates.gradient_sums()[i].V;
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
         worst_vs_cA = std::max(worst_vs_cA, std::abs(V(a, b) - c * A[a][b]));
@@ -99,7 +99,7 @@ TEST(VelocityGradient, CorrectedExactForLinearFieldsOnRandomSets) {
   rates.evaluate(p);
   double worst_corrected = 0, worst_plain = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto g = gradient_sums_at(i, p, rates.neighbours(), rates.pair_factors());
+    const auto g = rates.gradient_sums()[i];
     const Mat<2> G = corrected_gradient(g);
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {

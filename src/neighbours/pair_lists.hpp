@@ -1,0 +1,98 @@
+#pragma once
+// Half lists: every interacting pair once, so that each pair term is evaluated once and added to
+// both particles (P98 sec. 4.1 visited every pair from both sides and lost up to 2x, Fig. 4), and
+// the schedule that does this on threads with the same bits for any thread or rank count.
+//
+// A pair belongs to the particle that comes first in cell order (the grid's order: cells of the
+// shared lattice x fastest, by ID inside a cell), so its partners lie in its own row of cells or
+// the rows above: the half stencil of the symmetric sequential code. Tiles are blocks of T^D
+// cells; a tile's task evaluates the pairs of its particles (in cell order) and, for near pairs
+// (tiles equal or adjacent), writes only to its own tile, its row neighbours x-1 and x+1 and the
+// three tiles of the next row (in 3D also the 9 tiles of the next layer). Tiles coloured
+// (tx mod 3, ty mod 2) in 2D and (tx mod 3, ty mod 3, tz mod 2) in 3D never write to a common tile
+// within a colour, so a colour's tiles run in parallel without locks or atomics, and every particle
+// receives its pair terms in a fixed order: colour by colour (the tiles that write to it all have
+// different colours), inside a tile in cell order. Far pairs (tiles not adjacent: a particle whose
+// support is much wider than a tile) follow all colours, in tile order. Nothing in the order
+// depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
+// relative order).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "neighbours/cell_grid.hpp"
+#include "neighbours/neighbour_lists.hpp"
+#include "parallel/loops.hpp"
+
+namespace sphdisk {
+
+struct PairLists {
+  NeighbourLists near, far;               // half lists of every particle (the grid's particles)
+  std::vector<std::uint32_t> order;       // particles in tile order
+  std::vector<std::size_t> tile_start;    // tile t holds order[tile_start[t] .. tile_start[t + 1])
+  std::vector<std::uint32_t> tiles_by_colour;  // tile indices, colour by colour
+  std::vector<std::size_t> colour_start;  // colour c: tiles_by_colour[colour_start[c] .. colour_start[c + 1])
+  std::size_t writable = 0;               // pair terms are wanted for particles [0, writable) only
+  std::vector<std::uint32_t> slot;        // each particle's place in cell order (its grid slot)
+  std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
+
+  std::size_t total() const { return near.total() + far.total(); }  // pairs; also the pair-factor count
+  std::size_t bytes() const;
+};
+
+// Step 1: the tile order of the grid's particles (order, tiles, colours, slots) with tiles of
+// tile_cells^D cells; pair terms are wanted for the particles [0, writable).
+template <int D>
+void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out);
+
+// Step 2, from full lists: the half lists of the full lists' pairs. `full` holds the lists of the
+// writable particles, symmetric among them; entries may name other particles of the grid (ghosts,
+// inactive particles), whose pairs with them are kept too (handed over to the other particle
+// where it comes first).
+template <int D>
+void build_half_lists(const NeighbourLists& full, PairLists& out);
+
+// Step 2, searched directly into out.near (build_half_neighbour_lists of neighbour_lists.hpp) with
+// tiles spanning the search radius, so that no pair is far: empties the far lists.
+void no_far_pairs(PairLists& out);
+
+// Both steps from full interaction lists: `full` holds the lists of the particles
+// [0, full.size()) (they become the writable ones), symmetric among them; their entries may name
+// other particles of the grid (ghosts, inactive particles), whose pairs with them are kept too.
+// tile_cells: T, the tile edge in cells; pairs reaching over more than one tile become far pairs,
+// so any T is correct and a T with T cells >= most supports makes far pairs rare.
+template <int D>
+void build_pair_lists(const NeighbourLists& full, const CellGrid<D>& grid, int tile_cells, PairLists& out);
+
+// Calls f(i, js, k0) once per particle i with a non-empty half list: js its partners, numbered
+// k0, k0 + 1, ... (near pairs first, as per-pair arrays such as the pair factors are indexed).
+// Concurrent calls never share a particle, and each particle's terms come in the fixed order
+// described above. A list at a time lets the physics keep i's sums in registers.
+template <class F>
+void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label = {}) {
+  const NeighbourLists& near = pl.near;
+  par::for_each_coloured(pl.colour_start, [&](std::size_t c) {
+    const std::uint32_t t = pl.tiles_by_colour[c];
+    for (std::size_t s = pl.tile_start[t]; s < pl.tile_start[t + 1]; ++s) {
+      const std::uint32_t i = pl.order[s];
+      if (near.count(i) > 0) f(i, std::span<const std::uint32_t>(near.begin(i), near.count(i)), near.offsets[i]);
+    }
+  }, trace_label);
+  const NeighbourLists& far = pl.far;
+  const std::size_t base = near.total();
+  if (far.total() == 0) return;
+  for (const std::uint32_t i : pl.order)
+    if (far.count(i) > 0) f(i, std::span<const std::uint32_t>(far.begin(i), far.count(i)), base + far.offsets[i]);
+}
+
+// Calls f(i, j, k) once for every pair (i first in cell order, k its number), in the same order.
+template <class F>
+void for_each_pair(const PairLists& pl, F&& f, std::string_view trace_label = {}) {
+  for_each_pair_list(pl, [&f](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+    for (std::size_t q = 0; q < js.size(); ++q) f(i, js[q], k0 + q);
+  }, trace_label);
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,110 @@
+// Half lists and their coloured schedule (neighbours/pair_lists.hpp): every pair with a writable
+// particle exactly once, tiles of one colour never writing to the same particle, and each
+// particle's pair terms in the same order for any thread count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include "neighbours/neighbour_lists.hpp"
+#include "neighbours/pair_lists.hpp"
+#include "parallel/loops.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+// Full lists of the first `listed` particles (the others count as ghosts), cells of radius/2 so that
+// pairs reach over two cells, and the half lists on tiles of `tile_cells` cells.
+template <int D>
+struct HalfListSetup {
+  Particles<D> p;
+  CellGrid<D> grid;
+  NeighbourLists full;
+  PairLists pairs;
+  HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells) : p(std::move(particles)) {
+    build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
+    build_neighbour_lists(grid, p.pos, radius, full, listed);
+    build_pair_lists(full, grid, tile_cells, pairs);
+  }
+};
+
+template <int D>
+void check_every_pair_once(Particles<D> particles, double radius, std::size_t listed, int tile_cells,
+                           bool expect_far) {
+  HalfListSetup<D> s(std::move(particles), radius, listed, tile_cells);
+  const std::size_t n = s.p.size();
+  ASSERT_EQ(s.pairs.writable, listed);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> expected, got;
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t j = i + 1; j < n; ++j)
+      if ((i < listed || j < listed) && norm2(s.p.pos[i] - s.p.pos[j]) < radius * radius) expected.insert({i, j});
+  // Recorded by pair number (calls run concurrently; each k is written once).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> visited(s.pairs.total(), {UINT32_MAX, UINT32_MAX});
+  for_each_pair(s.pairs, [&](std::uint32_t i, std::uint32_t j, std::size_t k) { visited[k] = {std::min(i, j), std::max(i, j)}; });
+  for (const auto& v : visited) got.insert(v);
+  EXPECT_EQ(got.size(), visited.size()) << "a pair was visited twice, or a pair number skipped";
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(s.pairs.total(), expected.size());
+  if (expect_far) EXPECT_GT(s.pairs.far.total(), 0u);
+  else EXPECT_EQ(s.pairs.far.total(), 0u);
+  EXPECT_GT(expected.size(), n);  // dense enough to mean something
+}
+
+}  // namespace
+
+TEST(PairLists, EveryPairOnce2D) { check_every_pair_once(test::random_particles<2>(1500, 11, true), 0.04, 1500, 2, false); }
+TEST(PairLists, EveryPairOnce3D) { check_every_pair_once(test::random_particles<3>(1500, 12, false), 0.12, 1500, 2, false); }
+TEST(PairLists, EveryPairWithAListedParticleOnce) {
+  check_every_pair_once(test::random_particles<2>(1500, 13, true), 0.04, 900, 4, false);
+  check_every_pair_once(test::random_particles<3>(1500, 14, true), 0.08, 700, 2, false);
+}
+// Tiles of one cell are narrower than the supports: pairs beyond the next tile become far pairs.
+TEST(PairLists, PairsBeyondTheNextTileAreFarPairs) {
+  check_every_pair_once(test::random_particles<2>(1500, 15, true), 0.04, 1500, 1, true);
+  check_every_pair_once(test::random_particles<3>(1500, 16, false), 0.12, 1000, 1, true);
+}
+
+// Within a colour no two tiles write to the same particle (so they may run concurrently).
+TEST(PairLists, TilesOfOneColourWriteToDisjointParticles) {
+  for (int tile_cells : {1, 2, 3}) {
+    HalfListSetup<2> s(test::random_particles<2>(3000, 17, true), 0.03, 3000, tile_cells);
+    const PairLists& pl = s.pairs;
+    ASSERT_GT(pl.colour_start.size(), 2u);
+    for (std::size_t c = 0; c + 1 < pl.colour_start.size(); ++c) {
+      std::vector<int> writer(s.p.size(), -1);
+      for (std::size_t k = pl.colour_start[c]; k < pl.colour_start[c + 1]; ++k) {
+        const int t = static_cast<int>(pl.tiles_by_colour[k]);
+        for (std::size_t q = pl.tile_start[t]; q < pl.tile_start[t + 1]; ++q) {
+          const std::uint32_t i = pl.order[q];
+          for (const std::uint32_t* it = pl.near.begin(i); it != pl.near.end(i); ++it)
+            for (std::uint32_t x : {i, *it}) {
+              ASSERT_TRUE(writer[x] == -1 || writer[x] == t) << "tiles " << writer[x] << " and " << t << " share particle " << x;
+              writer[x] = t;
+            }
+        }
+      }
+    }
+  }
+}
+
+// A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.
+TEST(PairLists, SameOrderOfPairTermsForAnyThreadCount) {
+  HalfListSetup<2> s(test::random_particles<2>(4000, 18, true), 0.03, 4000, 1);  // with far pairs
+  ASSERT_GT(s.pairs.far.total(), 0u);
+  auto sums = [&](int threads) {
+    par::set_threads(threads);
+    std::vector<double> acc(s.p.size(), 0.0);
+    for_each_pair(s.pairs, [&](std::uint32_t i, std::uint32_t j, std::size_t) {
+      const double t = 1.0 / (1.0 + 1e3 * norm2(s.p.pos[i] - s.p.pos[j])) + 1e-9 * i;
+      acc[i] = acc[i] * 0.999 + t;  // not associative: any change of order changes the bits
+      acc[j] = acc[j] * 0.999 - t;
+    });
+    par::set_threads(0);
+    return acc;
+  };
+  const auto one = sums(1);
+  for (int threads : {2, 3, 4}) EXPECT_EQ(sums(threads), one) << threads << " threads";
+}
