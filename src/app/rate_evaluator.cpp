@@ -5,7 +5,6 @@
 
 #include "core/error.hpp"
 #include "neighbours/cell_grid.hpp"
-#include "neighbours/interaction_lists.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
@@ -53,7 +52,7 @@ RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys,
       eta_(eta_for_neighbours<D>(neighbours)) {}
 
 // Solves h_i while searching each particle's neighbours (widening the search where the solution
-// lies beyond it), then builds the symmetric interaction lists (interaction_lists.hpp).
+// lies beyond it), then the half lists of the pairs r < 2 max(h_i, h_j) (pair_lists.hpp).
 //
 // With particles spread over processes, the ghosts must hold every particle within the search
 // radius of an owned particle (need) and every particle whose own support 2 h_j reaches one
@@ -148,13 +147,14 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   ScopedPhase t(timers_, "neighbour_search");
   if (active < p.size()) {
     // Ghosts' (and inactive particles') gather lists with their own h: the pairs that only their own
-    // support covers come from them (interaction_lists.hpp). Only pairs with an active particle matter.
+    // support covers come from them (pair_lists.hpp). Only pairs with an active particle matter.
     search_radius_.resize(p.size());
     for (std::size_t i = active; i < p.size(); ++i) search_radius_[i] = 2.0 * p.h[i];
     append_neighbour_lists(grid_, p.pos, active, search_radius_, candidates_, active < owned ? active : SIZE_MAX);
   }
-  build_interaction_lists(candidates_, p.pos, p.h, p.id, lists_);
-  truncate_lists(lists_, active);  // ghosts get their values from their owners
+  // Each pair once, from the gather lists (pair_lists.hpp).
+  build_tile_order(grid_, tile_cells(), active, pairs_lists_);
+  build_half_lists_from_gather(candidates_, p.pos, p.h, pairs_lists_);
 }
 
 template <int D>
@@ -164,7 +164,6 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
       adaptive_lists<K>(p, active);
-      build_pairs();
       ScopedPhase t(timers_, "density");
       compute_density(p, pairs_lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
       return;
@@ -222,12 +221,6 @@ int RateEvaluator<D>::tile_cells() const {
   return std::max(kMinTileCells<D>, static_cast<int>(std::ceil(widest_support_ / grid_.cell_size)));
 }
 
-// Half lists for the pair loops from the interaction lists.
-template <int D>
-void RateEvaluator<D>::build_pairs() {
-  ScopedPhase t(timers_, "neighbour_search");
-  build_pair_lists(lists_, grid_, tile_cells(), pairs_lists_);
-}
 
 template <int D>
 std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() const {
@@ -236,8 +229,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   std::apply([&kernels](const auto&... v) { ((kernels += v.capacity() * sizeof(v[0])), ...); }, kernels_);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
-  return {{"interaction_lists", lists_.bytes()},
-          {"half_lists", pairs_lists_.bytes()},
+  return {{"half_lists", pairs_lists_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float)},
           {"bound_kernels", kernels},

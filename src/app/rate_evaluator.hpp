@@ -41,8 +41,8 @@ class RateEvaluator {
 
   void evaluate(Particles<D>& p) { evaluate(p, p.size()); }
   // Block timesteps: only the first `active` particles get new h, rho, stress, acc and du_dt; the
-  // others keep their values and count as neighbours with them (as ghosts do). The active
-  // particles' interaction lists still hold every pair (r < 2 max(h_i, h_j)).
+  // others keep their values and count as neighbours with them (as ghosts do). Every pair with an
+  // active particle is still evaluated (r < 2 max(h_i, h_j)).
   void evaluate(Particles<D>& p, std::size_t active);
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
@@ -64,9 +64,9 @@ class RateEvaluator {
   const PhysicsParams& physics() const { return phys_; }
   KernelType kernel() const { return kernel_; }
   PhaseTimers& timers() { return timers_; }
-  // Adaptive h: the interaction lists of the particles given new rates (pairs from both sides).
+  // Adaptive h: every particle's gather list (|x_i - x_j| < 2 h_i) of the last evaluation.
   // Constant h searches each pair once (pair_lists()) and leaves these empty.
-  const NeighbourLists& neighbours() const { return lists_; }
+  const NeighbourLists& neighbours() const { return candidates_; }
   const PairLists& pair_lists() const { return pairs_lists_; }  // each pair once (pair_lists.hpp)
   const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
   // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp).
@@ -83,7 +83,6 @@ class RateEvaluator {
   template <class K>
   void adaptive_lists(Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
-  void build_pairs();
   int tile_cells() const;
 
   KernelType kernel_;
@@ -94,14 +93,13 @@ class RateEvaluator {
   double eta_;
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   ParticleDomain<D>* domain_ = nullptr;
-  NeighbourLists lists_;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
-  PairLists pairs_lists_;  // the interaction lists' pairs, each once
+  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp)
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
   std::vector<GradientSums<D>> gradient_sums_;

@@ -146,93 +146,114 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 
 }
 
-template <int D>
-void build_half_lists(const NeighbourLists& full, PairLists& out) {
+// The half lists of the pairs in `src` (lists of the particles [0, src.size())): an entry j of i's
+// list that comes later in cell order stays in i's half list (in list order); an earlier one is
+// handed to j (transposed) where transpose(i, j) says that j's own list lacks i, else dropped (j
+// has it). Handed-over partners follow j's own, in cell order. Pairs of two unwritable particles
+// are dropped.
+template <int D, class Transpose>
+void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& transpose) {
   const std::size_t n = out.order.size();
   const std::size_t m = out.writable;
-  if (full.size() != m) throw std::logic_error("build_half_lists: the full lists must be those of the writable particles");
+  const std::size_t ns = src.size();
   const std::vector<std::uint32_t>& slot = out.slot;
   const std::int32_t* tile = out.tile.data();
-  // Half lists of the listed particles: the entries that come later in cell order, in list order.
-  // A pair whose first particle has no list is handed to it (transposed).
-  const std::size_t nblocks = (m + kBlock - 1) / kBlock;
+  const std::size_t nblocks = (ns + kBlock - 1) / kBlock;
   struct Block {
-    std::vector<std::uint32_t> near, far, near_count, far_count;
+    std::vector<std::uint32_t> near, far, near_start, far_start;  // starts: per particle of the block, + end
     std::vector<Transposed> transposed;
   };
   std::vector<Block> blocks(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
-    const std::size_t i0 = b * kBlock, i1 = std::min(m, i0 + kBlock);
-    B.near_count.resize(i1 - i0);
-    B.far_count.resize(i1 - i0);
+    const std::size_t i0 = b * kBlock, i1 = std::min(ns, i0 + kBlock);
+    B.near_start.assign(1, 0);
+    B.far_start.assign(1, 0);
     for (std::size_t i = i0; i < i1; ++i) {
       const std::uint32_t slot_i = slot[i];
-      const std::size_t near0 = B.near.size(), far0 = B.far.size();
+      const bool i_writable = i < m;
       // Branch-free append of the near pairs (about half the entries, at random); far and
       // transposed pairs are rare.
-      std::size_t end = near0;
-      B.near.resize(near0 + full.count(i));
-      for (const std::uint32_t* it = full.begin(i); it != full.end(i); ++it) {
+      std::size_t end = B.near.size();
+      B.near.resize(end + src.count(i));
+      for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
         const std::uint32_t j = *it;
         const bool later = slot[j] > slot_i, near = adjacent<D>(tile + D * i, tile + D * j);
+        const bool wanted = i_writable | (j < m);
         B.near[end] = j;
-        end += static_cast<std::size_t>(later & near);
-        if (!near && later) B.far.push_back(j);
-        if (!later && j >= m) B.transposed.push_back({j, static_cast<std::uint32_t>(i), !near});
+        end += static_cast<std::size_t>(later & near & wanted);
+        if (later && !near && wanted) B.far.push_back(j);
+        if (!later && wanted && transpose(i, j)) B.transposed.push_back({j, static_cast<std::uint32_t>(i), !near});
       }
       B.near.resize(end);
-      B.near_count[i - i0] = static_cast<std::uint32_t>(end - near0);
-      B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far0);
+      B.near_start.push_back(static_cast<std::uint32_t>(end));
+      B.far_start.push_back(static_cast<std::uint32_t>(B.far.size()));
     }
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
   // Transposed pairs grouped by target (counting sort in block order), each group in cell order.
-  std::vector<std::size_t> tstart(n - m + 1, 0);
+  std::vector<std::size_t> tstart(n + 1, 0);
   for (const Block& B : blocks)
-    for (const Transposed& p : B.transposed) ++tstart[p.target - m + 1];
-  for (std::size_t k = 0; k < n - m; ++k) tstart[k + 1] += tstart[k];
-  std::vector<Transposed> tsorted(tstart[n - m]);
+    for (const Transposed& p : B.transposed) ++tstart[p.target + 1];
+  for (std::size_t k = 0; k < n; ++k) tstart[k + 1] += tstart[k];
+  std::vector<Transposed> tsorted(tstart[n]);
   {
     std::vector<std::size_t> fill(tstart.begin(), tstart.end() - 1);
     for (const Block& B : blocks)
-      for (const Transposed& p : B.transposed) tsorted[fill[p.target - m]++] = p;
+      for (const Transposed& p : B.transposed) tsorted[fill[p.target]++] = p;
   }
-  par::for_each(n - m, [&](std::size_t k) {
+  par::for_each(n, [&](std::size_t k) {
     std::sort(tsorted.begin() + static_cast<std::ptrdiff_t>(tstart[k]), tsorted.begin() + static_cast<std::ptrdiff_t>(tstart[k + 1]),
               [&](const Transposed& a, const Transposed& b) { return slot[a.source] < slot[b.source]; });
   });
 
-  // Join: offsets of both lists, then the entries, in parallel.
+  // Join: each particle's own entries, then those handed to it; offsets serially, entries in parallel.
+  auto own = [&](std::size_t i, bool far) -> std::pair<const std::uint32_t*, const std::uint32_t*> {
+    if (i >= ns) return {nullptr, nullptr};
+    const Block& B = blocks[i / kBlock];
+    const std::size_t k = i % kBlock;
+    const auto& start = far ? B.far_start : B.near_start;
+    const std::uint32_t* base = far ? B.far.data() : B.near.data();
+    return {base + start[k], base + start[k + 1]};
+  };
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     nl->offsets.resize(n + 1);
     nl->offsets[0] = 0;
   }
-  for (std::size_t b = 0; b < nblocks; ++b)
-    for (std::size_t k = 0; k < blocks[b].near_count.size(); ++k) {
-      const std::size_t i = b * kBlock + k;
-      out.near.offsets[i + 1] = out.near.offsets[i] + blocks[b].near_count[k];
-      out.far.offsets[i + 1] = out.far.offsets[i] + blocks[b].far_count[k];
-    }
-  for (std::size_t i = m; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     std::size_t nf = 0;
-    for (std::size_t k = tstart[i - m]; k < tstart[i - m + 1]; ++k) nf += tsorted[k].far;
-    out.near.offsets[i + 1] = out.near.offsets[i] + (tstart[i - m + 1] - tstart[i - m]) - nf;
-    out.far.offsets[i + 1] = out.far.offsets[i] + nf;
+    for (std::size_t k = tstart[i]; k < tstart[i + 1]; ++k) nf += tsorted[k].far;
+    const auto [a0, a1] = own(i, false);
+    const auto [f0, f1] = own(i, true);
+    out.near.offsets[i + 1] = out.near.offsets[i] + static_cast<std::size_t>(a1 - a0) + (tstart[i + 1] - tstart[i]) - nf;
+    out.far.offsets[i + 1] = out.far.offsets[i] + static_cast<std::size_t>(f1 - f0) + nf;
   }
   resize_snug(out.near.index, out.near.offsets[n]);
   resize_snug(out.far.index, out.far.offsets[n]);
-  par::for_each(nblocks, [&](std::size_t b) {
-    const std::size_t i0 = b * kBlock;
-    std::copy(blocks[b].near.begin(), blocks[b].near.end(), out.near.index.begin() + static_cast<std::ptrdiff_t>(out.near.offsets[i0]));
-    std::copy(blocks[b].far.begin(), blocks[b].far.end(), out.far.index.begin() + static_cast<std::ptrdiff_t>(out.far.offsets[i0]));
-  }, {}, 1);
-  par::for_each(n - m, [&](std::size_t k) {
-    std::size_t a = out.near.offsets[m + k], f = out.far.offsets[m + k];
-    for (std::size_t e = tstart[k]; e < tstart[k + 1]; ++e)
-      (tsorted[e].far ? out.far.index[f++] : out.near.index[a++]) = tsorted[e].source;
+  par::for_each(n, [&](std::size_t i) {
+    const auto [a0, a1] = own(i, false);
+    const auto [f0, f1] = own(i, true);
+    std::uint32_t* a = std::copy(a0, a1, out.near.index.data() + out.near.offsets[i]);
+    std::uint32_t* f = std::copy(f0, f1, out.far.index.data() + out.far.offsets[i]);
+    for (std::size_t e = tstart[i]; e < tstart[i + 1]; ++e) *(tsorted[e].far ? f++ : a++) = tsorted[e].source;
   });
+}
+
+template <int D>
+void build_half_lists(const NeighbourLists& full, PairLists& out) {
+  const std::size_t m = out.writable;
+  if (full.size() != m) throw std::logic_error("build_half_lists: the full lists must be those of the writable particles");
+  half_lists_from<D>(full, out, [m](std::size_t, std::uint32_t j) { return j >= m; });  // j has no list
+}
+
+template <int D>
+void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
+                                  const std::vector<double>& h, PairLists& out) {
+  if (gather.size() != out.order.size())
+    throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
+  // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
+  half_lists_from<D>(gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; });
 }
 
 template <int D>
@@ -250,6 +271,8 @@ template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&)
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&);
 template void build_half_lists<2>(const NeighbourLists&, PairLists&);
 template void build_half_lists<3>(const NeighbourLists&, PairLists&);
+template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
+template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 template void build_pair_lists(const NeighbourLists&, const CellGrid<2>&, int, PairLists&);
 template void build_pair_lists(const NeighbourLists&, const CellGrid<3>&, int, PairLists&);
 

@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
@@ -53,6 +54,15 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // where it comes first).
 template <int D>
 void build_half_lists(const NeighbourLists& full, PairLists& out);
+
+// Step 2, from gather lists with variable smoothing lengths: `gather` holds every particle's list of
+// the j with |x_i - x_j| < 2 h_i (ghosts' and inactive particles' restricted to writable partners,
+// or not). Pairs interact when |x_i - x_j| < 2 max(h_i, h_j) (interaction through i's own support
+// or through j's; the pair-averaged kernel gradient keeps every pair term antisymmetric,
+// Hernquist & Katz 1989), so a pair in only one gather list is handed to its first particle.
+template <int D>
+void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
+                                  const std::vector<double>& h, PairLists& out);
 
 // Step 2, searched directly into out.near (build_half_neighbour_lists of neighbour_lists.hpp) with
 // tiles spanning the search radius, so that no pair is far: empties the far lists.

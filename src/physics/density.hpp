@@ -5,7 +5,7 @@
 // Each pair is visited once (pair_lists.hpp): its distance, both kernel values and its
 // kernel-gradient factor (pair_factors.hpp) are computed once and serve both particles. With one
 // global h the factor is dW(r, h)/dr / r; with variable h it is the pair average of dW(r, h_i)/dr / r
-// and dW(r, h_j)/dr / r (interaction_lists.hpp), symmetric in i <-> j as momentum conservation needs.
+// and dW(r, h_j)/dr / r (pair_lists.hpp), symmetric in i <-> j as momentum conservation needs.
 // The particle volume m/rho, the weight of every later pair sum (eqs. 6, 8), is stored with rho.
 // Computed for the writable particles (pl.writable: all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).

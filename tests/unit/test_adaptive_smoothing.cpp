@@ -1,5 +1,5 @@
-// Adaptive smoothing lengths (physics/smoothing_length.hpp) and the symmetric interaction lists
-// they need (neighbours/interaction_lists.hpp), against brute force.
+// Adaptive smoothing lengths (physics/smoothing_length.hpp) and the pairs they interact in
+// (neighbours/pair_lists.hpp: |x_i - x_j| < 2 max(h_i, h_j), each pair once), against brute force.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -8,7 +8,7 @@
 #include <random>
 
 #include "app/rate_evaluator.hpp"
-#include "neighbours/interaction_lists.hpp"
+#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/smoothing_length.hpp"
 #include "physics/viscous_stress.hpp"
@@ -27,14 +27,23 @@ std::vector<double> random_smoothing_lengths(std::size_t n, double lo, double hi
   return h;
 }
 
+// The half lists built from gather lists hold every pair with |x_i - x_j| < 2 max(h_i, h_j) exactly
+// once, also pairs that only the wider support of one particle covers ("scatter" pairs).
 template <int D>
-void check_interaction_lists(const Particles<D>& p, const std::vector<double>& h) {
+void check_interaction_pairs(const Particles<D>& p, const std::vector<double>& h, int tile_cells) {
   std::vector<double> radius(h.size());
   for (std::size_t i = 0; i < h.size(); ++i) radius[i] = 2.0 * h[i];
   const auto grid = build_cell_grid(p.pos, p.id, 0.5 * *std::min_element(radius.begin(), radius.end()));
-  NeighbourLists gather, inter;
+  NeighbourLists gather;
   build_neighbour_lists(grid, p.pos, radius, gather);
-  build_interaction_lists(gather, p.pos, h, p.id, inter);
+  PairLists pairs;
+  build_tile_order(grid, tile_cells, p.size(), pairs);
+  build_half_lists_from_gather(gather, p.pos, h, pairs);
+  std::vector<std::vector<std::uint32_t>> got(p.size());
+  for_each_pair(pairs, [&](std::uint32_t i, std::uint32_t j, std::size_t) {
+    got[i].push_back(j);  // i is written by one task at a time, j by one task at a time
+    got[j].push_back(i);
+  });
   std::size_t scatter_only = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     std::vector<std::uint32_t> brute;
@@ -43,9 +52,8 @@ void check_interaction_lists(const Particles<D>& p, const std::vector<double>& h
       if (j != i && r < 2.0 * std::max(h[i], h[j])) brute.push_back(static_cast<std::uint32_t>(j));
       if (j != i && r < 2.0 * h[j] && r >= 2.0 * h[i]) ++scatter_only;
     }
-    std::vector<std::uint32_t> got(inter.begin(i), inter.end(i));
-    std::sort(got.begin(), got.end());
-    ASSERT_EQ(got, brute) << "particle " << i;
+    std::sort(got[i].begin(), got[i].end());
+    ASSERT_EQ(got[i], brute) << "particle " << i;
   }
   EXPECT_GT(scatter_only, p.size());  // the test exercises the scatter half
 }
@@ -69,14 +77,15 @@ void evaluate_adaptive(Particles<D>& p, double h0, double neighbours, PhysicsPar
 
 }  // namespace
 
-TEST(InteractionLists, EqualBruteForceWithVariableH2D) {
+// Tiles of 16 cells span every support here; tiles of 3 leave many pairs far.
+TEST(InteractionPairs, EqualBruteForceWithVariableH2D) {
   const auto p = test::random_particles<2>(2000, 5, true);
-  check_interaction_lists(p, random_smoothing_lengths<2>(p.size(), 0.005, 0.04, 6));
+  for (int tile_cells : {16, 3}) check_interaction_pairs(p, random_smoothing_lengths<2>(p.size(), 0.005, 0.04, 6), tile_cells);
 }
 
-TEST(InteractionLists, EqualBruteForceWithVariableH3D) {
+TEST(InteractionPairs, EqualBruteForceWithVariableH3D) {
   const auto p = test::random_particles<3>(2000, 7, true);
-  check_interaction_lists(p, random_smoothing_lengths<3>(p.size(), 0.02, 0.08, 8));
+  for (int tile_cells : {8, 2}) check_interaction_pairs(p, random_smoothing_lengths<3>(p.size(), 0.02, 0.08, 8), tile_cells);
 }
 
 // Each solved h_i satisfies h_i = eta (m_i / rho_i)^(1/D) with rho_i summed by brute force, also
@@ -193,7 +202,7 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
 }
 
 // The memory report of the rate evaluator covers what it holds: at least the lists' entries and
-// offsets, one pair factor per entry, and one bound kernel per particle.
+// offsets, one pair factor per pair, and one bound kernel per particle.
 TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   auto p = test::random_particles<2>(2000, 5, false);
   for (auto& hi : p.h) hi = 0.02;
@@ -202,10 +211,11 @@ TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   rates.evaluate(p);
   std::map<std::string, std::size_t> bytes;
   for (const auto& [part, b] : rates.memory()) bytes[part] = b;
-  const NeighbourLists& nl = rates.neighbours();
-  EXPECT_GE(bytes["interaction_lists"], nl.total() * sizeof(std::uint32_t) + (nl.size() + 1) * sizeof(std::size_t));
-  EXPECT_GE(bytes["pair_factors"], rates.pair_factors().size() * sizeof(float));
-  EXPECT_GE(bytes["candidate_lists"], nl.total() * sizeof(std::uint32_t));  // candidates include every neighbour
+  const NeighbourLists& gather = rates.neighbours();
+  const PairLists& pairs = rates.pair_lists();
+  EXPECT_GE(bytes["half_lists"], pairs.total() * sizeof(std::uint32_t) + 2 * (p.size() + 1) * sizeof(std::size_t));
+  EXPECT_GE(bytes["pair_factors"], pairs.total() * sizeof(float));
+  EXPECT_GE(bytes["candidate_lists"], gather.total() * sizeof(std::uint32_t) + (p.size() + 1) * sizeof(std::size_t));
   EXPECT_GE(bytes["bound_kernels"], p.size() * sizeof(double));
   EXPECT_GE(p.bytes(), p.size() * (sizeof(Vec<2>) * 3 + sizeof(double) * 4));
 
@@ -215,8 +225,7 @@ TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
     rates.evaluate(p);
   }
   for (const auto& [part, b] : rates.memory()) bytes[part] = b;
-  const double entries = static_cast<double>(rates.neighbours().total());
+  const double entries = static_cast<double>(pairs.total());
   EXPECT_LE(static_cast<double>(bytes["pair_factors"]), 1.15 * entries * sizeof(float));
-  EXPECT_LE(static_cast<double>(bytes["interaction_lists"]),
-            1.15 * (entries * sizeof(std::uint32_t) + static_cast<double>(p.size() + 1) * sizeof(std::size_t)));
+  EXPECT_LE(static_cast<double>(pairs.near.index.capacity() + pairs.far.index.capacity()), 1.15 * entries);
 }

@@ -108,3 +108,37 @@ TEST(PairLists, SameOrderOfPairTermsForAnyThreadCount) {
   const auto one = sums(1);
   for (int threads : {2, 3, 4}) EXPECT_EQ(sums(threads), one) << threads << " threads";
 }
+
+// The direct search of half lists (constant radius): each pair with a writable particle once, in
+// the list of the pair's first particle in cell order, scanning only the stencil after it.
+template <int D>
+void check_half_search(Particles<D> p, double radius, std::size_t writable) {
+  CellGrid<D> grid;
+  build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
+  PairLists pairs;
+  build_tile_order(grid, 2, writable, pairs);
+  build_half_neighbour_lists(grid, p.pos, radius, pairs.slot, writable, pairs.near);
+  no_far_pairs(pairs);
+  const std::size_t n = p.size();
+  ASSERT_EQ(pairs.near.size(), n);
+  std::size_t expected = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::vector<std::uint32_t> brute;
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (j != i && pairs.slot[j] > pairs.slot[i] && (i < writable || j < writable) &&
+          norm2(p.pos[i] - p.pos[j]) < radius * radius)
+        brute.push_back(j);
+    std::vector<std::uint32_t> got(pairs.near.begin(i), pairs.near.end(i));
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, brute) << "particle " << i;
+    expected += brute.size();
+  }
+  EXPECT_GT(expected, n);
+}
+
+TEST(PairLists, HalfSearchEqualsBruteForce) {
+  check_half_search(test::random_particles<2>(2000, 19, true), 0.03, 2000);
+  check_half_search(test::random_particles<2>(2000, 20, false), 0.05, 1200);
+  check_half_search(test::random_particles<3>(2000, 21, true), 0.06, 2000);
+  check_half_search(test::random_particles<3>(2000, 22, false), 0.12, 900);
+}
