@@ -2,12 +2,14 @@
 // gradient/stress + accelerations) on the ring at tau = 0.018, for the parallel code at several
 // thread counts and for the symmetric sequential variant (P98 Figs. 3 and 4). Writes CSV rows:
 //   variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,
-//   pair_interactions_per_second
-// where neighbours = 2 x pairs / particles and pair interactions = pairs x 3 pair loops (density,
+//   pair_interactions_per_second,best_seconds_per_evaluation
+// (seconds: median of --repeats evaluations, the variants taking turns), where neighbours = 2 x pairs / particles and pair interactions = pairs x 3 pair loops (density,
 // gradient, force), each pair evaluated once per loop (the symmetric variant does the same).
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,7 @@ struct Args {
   std::size_t particles = 100000;
   double neighbours = 60;
   std::vector<int> threads = {1, 2};
-  int repeats = 5;
+  int repeats = 11;
   bool symmetric = true;
   bool adaptive = true;
 };
@@ -56,18 +58,6 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-template <class F>
-double best_seconds(int repeats, F&& f) {
-  f();  // warm-up: first-touch of buffers
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t0 = Clock::now();
-    f();
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
-  }
-  return best;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,38 +78,63 @@ int main(int argc, char** argv) {
   rates.evaluate(p);
   const double pairs = static_cast<double>(rates.pair_lists().total());
   const double n = static_cast<double>(a.particles);
-  std::printf("variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,pair_interactions_per_second\n");
-  auto row = [&](const char* variant, int threads, double sec, double pairs_evaluated) {
-    std::printf("%s,%d,%zu,%.1f,%.6g,%.6g,%.6g\n", variant, threads, a.particles, 2 * pairs_evaluated / n, sec, n / sec,
-                3 * pairs_evaluated / sec);
+  std::printf("variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,"
+              "pair_interactions_per_second,best_seconds_per_evaluation\n");
+  auto row = [&](const char* variant, int threads, double sec, double best, double pairs_evaluated) {
+    std::printf("%s,%d,%zu,%.1f,%.6g,%.6g,%.6g,%.6g\n", variant, threads, a.particles, 2 * pairs_evaluated / n, sec,
+                n / sec, 3 * pairs_evaluated / sec, best);
     std::fflush(stdout);
   };
-  for (int t : a.threads) {
-    par::set_threads(t);
-    row("parallel", t, best_seconds(a.repeats, [&] { rates.evaluate(p); }), pairs);
+  // The variants take turns, one evaluation each, and report their median (and best) time: on a
+  // shared machine whose speed drifts by 10-30% over seconds, all variants then see the same
+  // phases, and the median does not favour the variant that needs the fewest quiet cores.
+  struct Variant {
+    std::string name;
+    int threads;
+    std::function<void()> evaluate;
+    std::function<double()> pairs;
+    std::vector<double> seconds;
+  };
+  std::vector<Variant> variants;
+  for (int t : a.threads)
+    variants.push_back({"parallel", t, [&] { rates.evaluate(p); }, [&] { return static_cast<double>(rates.pair_lists().total()); }, {}});
+  // Adaptive smoothing lengths (the default of a run). The warm-up evaluation converges h; in a
+  // run particles move between evaluations, so the Newton solve takes ~2 iterations instead of 1
+  // here: these rows slightly underestimate its cost.
+  Particles<2> q = initial;
+  std::fill(q.h.begin(), q.h.end(), h);
+  RateEvaluator<2> adaptive(KernelType::Cubic, h, phys, timers, Smoothing::Adaptive, a.neighbours);
+  if (a.adaptive)
+    for (int t : a.threads)
+      variants.push_back({"parallel_adaptive", t, [&] { adaptive.evaluate(q); },
+                          [&] { return static_cast<double>(adaptive.pair_lists().total()); }, {}});
+  Particles<2> ps = initial;
+  bench::SymmetricSequential sym;
+  if (a.symmetric)
+    variants.push_back({"symmetric_sequential", 1, [&] { sym.evaluate(ps, h, phys); }, [&] { return pairs; }, {}});
+  for (Variant& v : variants) {  // warm-up: first touch of buffers
+    par::set_threads(v.threads);
+    v.evaluate();
   }
-  if (a.adaptive) {
-    // Adaptive smoothing lengths (the default of a run). The warm-up evaluation converges h; in a
-    // run particles move between evaluations, so the Newton solve takes ~2 iterations instead of 1
-    // here: these rows slightly underestimate its cost.
-    Particles<2> q = initial;
-    std::fill(q.h.begin(), q.h.end(), h);
-    RateEvaluator<2> adaptive(KernelType::Cubic, h, phys, timers, Smoothing::Adaptive, a.neighbours);
-    for (int t : a.threads) {
-      par::set_threads(t);
-      const double sec = best_seconds(a.repeats, [&] { adaptive.evaluate(q); });
-      row("parallel_adaptive", t, sec, static_cast<double>(adaptive.pair_lists().total()));
+  for (int r = 0; r < a.repeats; ++r)
+    for (Variant& v : variants) {
+      par::set_threads(v.threads);
+      const auto t0 = Clock::now();
+      v.evaluate();
+      v.seconds.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
     }
-  }
   par::set_threads(0);
+  for (Variant& v : variants) {
+    std::sort(v.seconds.begin(), v.seconds.end());
+    const std::size_t k = v.seconds.size();
+    const double median = k % 2 ? v.seconds[k / 2] : 0.5 * (v.seconds[k / 2 - 1] + v.seconds[k / 2]);
+    row(v.name.c_str(), v.threads, median, v.seconds.front(), v.pairs());
+  }
   if (a.symmetric) {
-    Particles<2> q = initial;
-    bench::SymmetricSequential sym;
-    row("symmetric_sequential", 1, best_seconds(a.repeats, [&] { sym.evaluate(q, h, phys); }), pairs);
     // Same physics: accelerations agree to round-off.
     double worst = 0, scale = 0;
     for (std::size_t i = 0; i < p.size(); ++i) scale = std::max(scale, norm(p.acc[i]));
-    for (std::size_t i = 0; i < p.size(); ++i) worst = std::max(worst, norm(p.acc[i] - q.acc[i]));
+    for (std::size_t i = 0; i < p.size(); ++i) worst = std::max(worst, norm(p.acc[i] - ps.acc[i]));
     std::fprintf(stderr, "symmetric vs parallel: max |a difference| / max |a| = %.2e\n", worst / scale);
     if (worst > 1e-6 * scale) return 1;  // single-precision pair factors, summed in another order
   }

@@ -16,11 +16,11 @@ threads=$(seq -s, 1 "$max")
 out=runs/bench
 mkdir -p "$out"
 csv=$out/speedup.csv
-echo "run,variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,pair_interactions_per_second" > "$csv"
+echo "run,variant,threads,particles,neighbours,seconds_per_evaluation,particle_updates_per_second,pair_interactions_per_second,best_seconds_per_evaluation" > "$csv"
 for run in $(seq 1 "$runs"); do
   for n in 10000 100000 500000; do
-    repeats=5
-    [ "$n" -ge 500000 ] && repeats=3
+    repeats=11
+    [ "$n" -ge 500000 ] && repeats=5
     build/release/bench/force_bench --particles $n --threads "$threads" --repeats $repeats \
       | tail -n +2 | grep -v "^symmetric vs" | sed "s/^/$run,/" >> "$csv"
   done
