@@ -29,13 +29,24 @@ struct GradientSums {
 // Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
 // gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each
 // with the other's volume.
+// The products are formed once per pair (pair_products) and weighted for each particle.
 template <int D>
-void add_gradient_terms(GradientSums<D>& g, double f, const Vec<D>& dv, const Vec<D>& dx) {
+GradientSums<D> pair_products(const Vec<D>& dv, const Vec<D>& dx) {
+  GradientSums<D> q;
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) {
-      g.V(a, b) += f * dv[a] * dx[b];
-      g.M(a, b) -= f * dx[a] * dx[b];
+      q.V(a, b) = dv[a] * dx[b];
+      q.M(a, b) = dx[a] * dx[b];
     }
+  return q;
+}
+
+template <int D>
+void add_gradient_terms(GradientSums<D>& g, double f, const GradientSums<D>& products) {
+  for (std::size_t c = 0; c < g.V.c.size(); ++c) {
+    g.V.c[c] += f * products.V.c[c];
+    g.M.c[c] -= f * products.M.c[c];
+  }
 }
 
 // The sums of every writable particle (pl.writable), each pair visited once.
@@ -53,8 +64,9 @@ void sum_gradients(const Particles<D>& p, const PairLists& pl, const PairFactors
       const Vec<D> dx = xi - p.pos[j];
       const Vec<D> dv = p.vel[j] - vi;
       const double f = static_cast<double>(F[k0 + q]);
-      add_gradient_terms(gi, f * p.volume[j], dv, dx);
-      if (j < m) add_gradient_terms(sums[j], f * Vi, dv, dx);
+      const GradientSums<D> products = pair_products(dv, dx);
+      add_gradient_terms(gi, f * p.volume[j], products);
+      if (j < m) add_gradient_terms(sums[j], f * Vi, products);
     }
     if (i < m)
       for (std::size_t c = 0; c < gi.V.c.size(); ++c) {
