@@ -143,6 +143,15 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
     for (std::size_t t = 0; t < ntiles; ++t)
       if (out.tile_start[t + 1] > out.tile_start[t]) out.tiles_by_colour[fill[static_cast<std::size_t>(colour[t])]++] = static_cast<std::uint32_t>(t);
   }
+  // Largest tiles first inside each colour, so that the dynamic schedule ends evenly (the order
+  // inside a colour changes no result: its tiles write to disjoint particles).
+  for (int c = 0; c < kColours<D>; ++c) {
+    auto first = out.tiles_by_colour.begin() + static_cast<std::ptrdiff_t>(out.colour_start[static_cast<std::size_t>(c)]);
+    auto last = out.tiles_by_colour.begin() + static_cast<std::ptrdiff_t>(out.colour_start[static_cast<std::size_t>(c) + 1]);
+    std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) {
+      return out.tile_start[a + 1] - out.tile_start[a] > out.tile_start[b + 1] - out.tile_start[b];
+    });
+  }
 
 }
 
