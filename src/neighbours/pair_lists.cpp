@@ -85,7 +85,7 @@ bool adjacent(const std::int32_t* a, const std::int32_t* b) {
 }
 
 struct Transposed {
-  std::uint32_t target, source;  // source comes first in cell order; target has no list of its own
+  std::uint32_t target, source;  // target comes first in cell order and its own list lacks the pair
   bool far;
 };
 

@@ -49,31 +49,50 @@ void add_gradient_terms(GradientSums<D>& g, double f, const GradientSums<D>& pro
   }
 }
 
-// The sums of every writable particle (pl.writable), each pair visited once.
 template <int D>
-void sum_gradients(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<GradientSums<D>>& sums) {
+void accumulate(Mat<D>& into, const Mat<D>& x) {
+  for (std::size_t c = 0; c < into.c.size(); ++c) into.c[c] += x.c[c];
+}
+
+template <int D>
+void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
+  accumulate(into.V, x.V);
+  accumulate(into.M, x.M);
+}
+
+// Per-particle sums over neighbours of terms in dv = v_j - v_i and dx = x_i - x_j weighted by
+// (m_j/rho_j) W_,b / dx_b, each pair visited once (pair_lists.hpp): pair_of(dv, dx) forms what the
+// two particles share, add(sum, weight, shared, other) adds one particle's term (other: the partner).
+// Both particles get the same dv and dx: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx. Sums are kept for
+// the writable particles (pl.writable) and zeroed first.
+template <int D, class T, class PairOf, class Add>
+void sum_velocity_pair_terms(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<T>& sums,
+                             PairOf&& pair_of, Add&& add) {
   const std::size_t m = pl.writable;
   resize_snug(sums, m);
-  par::for_each(m, [&](std::size_t i) { sums[i] = GradientSums<D>{}; }, "velocity_gradient");
+  par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
   for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
     const Vec<D> xi = p.pos[i], vi = p.vel[i];
     const double Vi = p.volume[i];
-    GradientSums<D> gi;
+    T sum_i{};
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
-      const Vec<D> dx = xi - p.pos[j];
-      const Vec<D> dv = p.vel[j] - vi;
+      const auto shared = pair_of(p.vel[j] - vi, xi - p.pos[j]);
       const double f = static_cast<double>(F[k0 + q]);
-      const GradientSums<D> products = pair_products(dv, dx);
-      add_gradient_terms(gi, f * p.volume[j], products);
-      if (j < m) add_gradient_terms(sums[j], f * Vi, products);
+      add(sum_i, f * p.volume[j], shared, j);
+      if (j < m) add(sums[j], f * Vi, shared, i);
     }
-    if (i < m)
-      for (std::size_t c = 0; c < gi.V.c.size(); ++c) {
-        sums[i].V.c[c] += gi.V.c[c];
-        sums[i].M.c[c] += gi.M.c[c];
-      }
+    if (i < m) accumulate(sums[i], sum_i);
   }, "velocity_gradient");
+}
+
+// Eq. 8's V and the moment matrix M of every writable particle.
+template <int D>
+void sum_gradients(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<GradientSums<D>>& sums) {
+  sum_velocity_pair_terms(p, pl, F, sums, [](const Vec<D>& dv, const Vec<D>& dx) { return pair_products(dv, dx); },
+                          [](GradientSums<D>& g, double w, const GradientSums<D>& products, std::uint32_t) {
+                            add_gradient_terms(g, w, products);
+                          });
 }
 
 // The gradient made exact for linear velocity fields on any particle set: V M^-1. M is the
@@ -139,24 +158,14 @@ void compute_viscous_stress(Particles<D>& p, const PairLists& pl, const PairFact
 // H: scratch.
 template <int D>
 void add_force_corrected_heating(Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<Mat<D>>& H) {
+  struct Shared {
+    Vec<D> dv, dx;
+  };
+  sum_velocity_pair_terms(p, pl, F, H, [](const Vec<D>& dv, const Vec<D>& dx) { return Shared{dv, dx}; },
+                          [&p](Mat<D>& h, double w, const Shared& s, std::uint32_t other) {
+                            add_neighbour_corrected_terms(h, p.correction[other], w, s.dv, s.dx);
+                          });
   const std::size_t m = pl.writable;
-  resize_snug(H, m);
-  par::for_each(m, [&](std::size_t i) { H[i] = Mat<D>{}; }, "velocity_gradient");
-  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
-    const Vec<D> xi = p.pos[i], vi = p.vel[i];
-    const double Vi = p.volume[i];
-    Mat<D> Hi;
-    for (std::size_t q = 0; q < js.size(); ++q) {
-      const std::uint32_t j = js[q];
-      const Vec<D> dx = xi - p.pos[j];
-      const Vec<D> dv = p.vel[j] - vi;
-      const double f = static_cast<double>(F[k0 + q]);
-      add_neighbour_corrected_terms(Hi, p.correction[j], f * p.volume[j], dv, dx);
-      if (j < m) add_neighbour_corrected_terms(H[j], p.correction[i], f * Vi, dv, dx);
-    }
-    if (i < m)
-      for (std::size_t c = 0; c < Hi.c.size(); ++c) H[i].c[c] += Hi.c[c];
-  }, "velocity_gradient");
   par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(p.stress[i], H[i]); }, "velocity_gradient");
 }
 

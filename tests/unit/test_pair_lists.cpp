@@ -68,26 +68,31 @@ TEST(PairLists, PairsBeyondTheNextTileAreFarPairs) {
 }
 
 // Within a colour no two tiles write to the same particle (so they may run concurrently).
-TEST(PairLists, TilesOfOneColourWriteToDisjointParticles) {
-  for (int tile_cells : {1, 2, 3}) {
-    HalfListSetup<2> s(test::random_particles<2>(3000, 17, true), 0.03, 3000, tile_cells);
-    const PairLists& pl = s.pairs;
-    ASSERT_GT(pl.colour_start.size(), 2u);
-    for (std::size_t c = 0; c + 1 < pl.colour_start.size(); ++c) {
-      std::vector<int> writer(s.p.size(), -1);
-      for (std::size_t k = pl.colour_start[c]; k < pl.colour_start[c + 1]; ++k) {
-        const int t = static_cast<int>(pl.tiles_by_colour[k]);
-        for (std::size_t q = pl.tile_start[t]; q < pl.tile_start[t + 1]; ++q) {
-          const std::uint32_t i = pl.order[q];
-          for (const std::uint32_t* it = pl.near.begin(i); it != pl.near.end(i); ++it)
-            for (std::uint32_t x : {i, *it}) {
-              ASSERT_TRUE(writer[x] == -1 || writer[x] == t) << "tiles " << writer[x] << " and " << t << " share particle " << x;
-              writer[x] = t;
-            }
-        }
+template <int D>
+void check_colours_write_disjoint(Particles<D> particles, double radius, int tile_cells) {
+  const std::size_t n = particles.size();
+  HalfListSetup<D> s(std::move(particles), radius, n, tile_cells);
+  const PairLists& pl = s.pairs;
+  ASSERT_GT(pl.colour_start.size(), 2u);
+  for (std::size_t c = 0; c + 1 < pl.colour_start.size(); ++c) {
+    std::vector<int> writer(n, -1);
+    for (std::size_t k = pl.colour_start[c]; k < pl.colour_start[c + 1]; ++k) {
+      const int t = static_cast<int>(pl.tiles_by_colour[k]);
+      for (std::size_t q = pl.tile_start[t]; q < pl.tile_start[t + 1]; ++q) {
+        const std::uint32_t i = pl.order[q];
+        for (const std::uint32_t* it = pl.near.begin(i); it != pl.near.end(i); ++it)
+          for (std::uint32_t x : {i, *it}) {
+            ASSERT_TRUE(writer[x] == -1 || writer[x] == t) << "tiles " << writer[x] << " and " << t << " share particle " << x;
+            writer[x] = t;
+          }
       }
     }
   }
+}
+
+TEST(PairLists, TilesOfOneColourWriteToDisjointParticles) {
+  for (int tile_cells : {1, 2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 17, true), 0.03, tile_cells);
+  for (int tile_cells : {1, 2}) check_colours_write_disjoint(test::random_particles<3>(3000, 23, true), 0.08, tile_cells);
 }
 
 // A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.
