@@ -113,12 +113,12 @@ struct CandidateFilter {
 // Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
-// keep: which candidates are scanned (Keep::kHalf: only those after i in cell order) and
-// keep.for_particle(i)(j) whether candidate j may be i's neighbour.
-template <int D, class Radius, class Settle, class Keep = AllOthers>
+// accept: which candidates are scanned (Accept::kHalf: only those after i in cell order) and
+// accept.for_particle(i)(j) whether candidate j may be i's neighbour.
+template <int D, class Radius, class Settle, class Accept = AllOthers>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
                  Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
-                 const Keep& keep = {}) {
+                 const Accept& accept = {}) {
   const bool filtered = !filter.slot_prefix.empty();
   const std::size_t n = last - first;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
@@ -138,7 +138,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     idx.clear();
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
-      const auto keep_i = keep.for_particle(i);
+      const auto accept_i = accept.for_particle(i);
       const std::size_t before = idx.size();
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
@@ -153,11 +153,11 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           for (std::uint32_t s = s0; s < s1; ++s) {
             const std::uint32_t j = grid.sorted[s];
             out[end] = j;
-            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & keep_i(j) & (j < filter.below));
+            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & accept_i(j) & (j < filter.below));
           }
           idx.resize(end);
         };
-        if constexpr (Keep::kHalf) for_each_later_candidate_range<D>(grid, xi, reach, keep.slot_of(i), scan);
+        if constexpr (Accept::kHalf) for_each_later_candidate_range<D>(grid, xi, reach, accept.slot_of(i), scan);
         else for_each_candidate_range<D>(grid, xi, reach, scan);
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
         if (keep > radius) {  // search again, wider
@@ -208,12 +208,6 @@ void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D
                                 const std::vector<std::uint32_t>& slot, std::size_t writable, NeighbourLists& nl) {
   build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl, CandidateFilter{},
               LaterOfWritablePairs{slot, writable});
-}
-
-void truncate_lists(NeighbourLists& nl, std::size_t count) {
-  if (count >= nl.size()) return;
-  nl.offsets.resize(count + 1);
-  nl.index.resize(nl.offsets[count]);
 }
 
 template <int D>

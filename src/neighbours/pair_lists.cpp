@@ -250,25 +250,12 @@ void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& tran
 }
 
 template <int D>
-void build_half_lists(const NeighbourLists& full, PairLists& out) {
-  const std::size_t m = out.writable;
-  if (full.size() != m) throw std::logic_error("build_half_lists: the full lists must be those of the writable particles");
-  half_lists_from<D>(full, out, [m](std::size_t, std::uint32_t j) { return j >= m; });  // j has no list
-}
-
-template <int D>
 void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out) {
   if (gather.size() != out.order.size())
     throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
   // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
   half_lists_from<D>(gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; });
-}
-
-template <int D>
-void build_pair_lists(const NeighbourLists& full, const CellGrid<D>& grid, int tile_cells, PairLists& out) {
-  build_tile_order(grid, tile_cells, full.size(), out);
-  build_half_lists<D>(full, out);
 }
 
 void no_far_pairs(PairLists& out) {
@@ -278,11 +265,8 @@ void no_far_pairs(PairLists& out) {
 
 template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&);
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&);
-template void build_half_lists<2>(const NeighbourLists&, PairLists&);
-template void build_half_lists<3>(const NeighbourLists&, PairLists&);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
-template void build_pair_lists(const NeighbourLists&, const CellGrid<2>&, int, PairLists&);
-template void build_pair_lists(const NeighbourLists&, const CellGrid<3>&, int, PairLists&);
+
 
 }  // namespace sphdisk

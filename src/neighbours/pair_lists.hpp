@@ -48,13 +48,6 @@ struct PairLists {
 template <int D>
 void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out);
 
-// Step 2, from full lists: the half lists of the full lists' pairs. `full` holds the lists of the
-// writable particles, symmetric among them; entries may name other particles of the grid (ghosts,
-// inactive particles), whose pairs with them are kept too (handed over to the other particle
-// where it comes first).
-template <int D>
-void build_half_lists(const NeighbourLists& full, PairLists& out);
-
 // Step 2, from gather lists with variable smoothing lengths: `gather` holds every particle's list of
 // the j with |x_i - x_j| < 2 h_i (ghosts' and inactive particles' restricted to writable partners,
 // or not). Pairs interact when |x_i - x_j| < 2 max(h_i, h_j) (interaction through i's own support
@@ -67,14 +60,6 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
 // Step 2, searched directly into out.near (build_half_neighbour_lists of neighbour_lists.hpp) with
 // tiles spanning the search radius, so that no pair is far: empties the far lists.
 void no_far_pairs(PairLists& out);
-
-// Both steps from full interaction lists: `full` holds the lists of the particles
-// [0, full.size()) (they become the writable ones), symmetric among them; their entries may name
-// other particles of the grid (ghosts, inactive particles), whose pairs with them are kept too.
-// tile_cells: T, the tile edge in cells; pairs reaching over more than one tile become far pairs,
-// so any T is correct and a T with T cells >= most supports makes far pairs rare.
-template <int D>
-void build_pair_lists(const NeighbourLists& full, const CellGrid<D>& grid, int tile_cells, PairLists& out);
 
 // Calls f(i, js, k0) once per particle i with a non-empty half list: js its partners, numbered
 // k0, k0 + 1, ... (near pairs first, as per-pair arrays such as the pair factors are indexed).

@@ -16,18 +16,22 @@ using namespace sphdisk;
 
 namespace {
 
-// Full lists of the first `listed` particles (the others count as ghosts), cells of radius/2 so that
-// pairs reach over two cells, and the half lists on tiles of `tile_cells` cells.
+// Gather lists as a run makes them: the first `listed` particles see every neighbour, the others
+// (like ghosts or inactive particles) only listed ones; cells of radius/2 so that pairs reach over
+// two cells; the half lists on tiles of `tile_cells` cells.
 template <int D>
 struct HalfListSetup {
   Particles<D> p;
   CellGrid<D> grid;
-  NeighbourLists full;
+  NeighbourLists gather;
   PairLists pairs;
   HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells) : p(std::move(particles)) {
+    const std::size_t n = p.size();
     build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
-    build_neighbour_lists(grid, p.pos, radius, full, listed);
-    build_pair_lists(full, grid, tile_cells, pairs);
+    build_tile_order(grid, tile_cells, listed, pairs);
+    build_neighbour_lists(grid, p.pos, radius, gather, listed);
+    append_neighbour_lists(grid, p.pos, listed, std::vector<double>(n, radius), gather, listed < n ? listed : SIZE_MAX);
+    build_half_lists_from_gather(gather, p.pos, std::vector<double>(n, 0.5 * radius), pairs);
   }
 };
 
