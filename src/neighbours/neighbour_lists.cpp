@@ -13,64 +13,37 @@ namespace {
 
 // Visits the candidate neighbours of x: the cells within `reach` cells of its cell in every
 // dimension. With x-fastest cell order, the cells of a row are adjacent in `sorted`, so each row is
-// one contiguous range.
+// one contiguous range. With `after` (x's own slot) only the candidates after it in cell order: the
+// rest of x's own row of cells, then the rows above (and in 3D the layers above), so that each pair
+// is seen from its first particle only (P98's symmetric sequential variant, Fig. 4).
 template <int D, class F>
-void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, F&& f) {
+void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, F&& f,
+                              const std::uint32_t* after = nullptr) {
   std::array<int, D> c;
   for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = g.coord(x[k], k);
   const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
+  const auto first = [&](int k) { return after ? c[static_cast<std::size_t>(k)] : std::max(c[static_cast<std::size_t>(k)] - reach, 0); };
   std::array<int, D> r = c;
-  auto row = [&](const std::array<int, D>& cell) {
-    std::array<int, D> a = cell, b = cell;
-    a[0] = x0;
-    b[0] = x1;
-    f(g.offsets[g.linear(a)], g.offsets[g.linear(b) + 1]);
+  auto row = [&](std::array<int, D> cell) {
+    const bool own_row = after && cell == c;
+    cell[0] = x1;
+    const std::uint32_t end = g.offsets[g.linear(cell) + 1];
+    cell[0] = x0;
+    f(own_row ? *after + 1 : g.offsets[g.linear(cell)], end);
   };
   if constexpr (D == 1) {
     row(r);
   } else if constexpr (D == 2) {
-    for (int y = std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
+    for (int y = first(1); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
       r[1] = y;
       row(r);
     }
   } else {
-    for (int z = std::max(c[2] - reach, 0); z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
-      for (int y = std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
+    for (int z = first(2); z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
+      for (int y = z == c[2] ? first(1) : std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
         r[1] = y;
         r[2] = z;
         row(r);
-      }
-  }
-}
-
-// The candidates that come after slot `after` (x's own slot) in cell order: the rest of x's own row
-// of cells, then the rows above (and in 3D the layers above) within `reach` cells: each pair is
-// seen from its first particle only (P98's symmetric sequential variant, Fig. 4).
-template <int D, class F>
-void for_each_later_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, std::uint32_t after, F&& f) {
-  std::array<int, D> c;
-  for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = g.coord(x[k], k);
-  const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
-  auto row = [&](std::array<int, D> cell, bool own_row) {
-    cell[0] = x1;
-    const std::uint32_t end = g.offsets[g.linear(cell) + 1];
-    cell[0] = x0;
-    f(own_row ? after + 1 : g.offsets[g.linear(cell)], end);
-  };
-  std::array<int, D> r = c;
-  if constexpr (D == 1) {
-    row(r, true);
-  } else if constexpr (D == 2) {
-    for (int y = c[1]; y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
-      r[1] = y;
-      row(r, y == c[1]);
-    }
-  } else {
-    for (int z = c[2]; z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
-      for (int y = z == c[2] ? c[1] : std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
-        r[1] = y;
-        r[2] = z;
-        row(r, z == c[2] && y == c[1]);
       }
   }
 }
@@ -157,8 +130,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           }
           idx.resize(end);
         };
-        if constexpr (Accept::kHalf) for_each_later_candidate_range<D>(grid, xi, reach, accept.slot_of(i), scan);
-        else for_each_candidate_range<D>(grid, xi, reach, scan);
+        if constexpr (Accept::kHalf) {
+          const std::uint32_t own = accept.slot_of(i);
+          for_each_candidate_range<D>(grid, xi, reach, scan, &own);
+        } else {
+          for_each_candidate_range<D>(grid, xi, reach, scan);
+        }
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
         if (keep > radius) {  // search again, wider
           idx.resize(before);

@@ -46,7 +46,6 @@ template <int D>
 void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
                                 const std::vector<std::uint32_t>& slot, std::size_t writable, NeighbourLists& out);
 
-
 // Gather lists with a search radius per particle (variable smoothing lengths): j is in i's list
 // when |x_i - x_j| < radius[i]. The cell size may be smaller than the radii; more cells are scanned.
 template <int D>

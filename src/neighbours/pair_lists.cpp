@@ -152,7 +152,6 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
       return out.tile_start[a + 1] - out.tile_start[a] > out.tile_start[b + 1] - out.tile_start[b];
     });
   }
-
 }
 
 // The half lists of the pairs in `src` (lists of the particles [0, src.size())): an entry j of i's
