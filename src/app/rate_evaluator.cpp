@@ -69,6 +69,10 @@ template <class K>
 void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   constexpr double kHaloMargin = 1.25;
   const std::size_t owned = p.size();
+  const bool reusable = list_skin_ > 0 && !domain_ && active == owned;
+  if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
+  const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
+  if (reusable) kept_.resize(owned);
   double cell_size;
   // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
   // reach over more cells; any cell size gives the same lists.
@@ -85,7 +89,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     h_start_ = p.h;
   } else {
     cell_size = kSkin * quantile(p.h, 0.5);
-    widest_support_ = 2.0 * quantile(p.h, kTileQuantile);
+    widest_support_ = 2.0 * skin * quantile(p.h, kTileQuantile);
   }
   for (;;) {
     Lattice<D> lattice;
@@ -106,7 +110,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     for (int k = 0; k < D; ++k) extent += std::pow(lattice.cell_size * lattice.dims[static_cast<std::size_t>(k)], 2);
     const double widest = 4.0 * std::sqrt(extent);
     search_radius_.resize(active);
-    for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
+    for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, double searched) {
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
@@ -120,7 +124,13 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
         return wider;
       }
       p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
-      return 2.0 * p.h[i];
+      // Lists to be reused need their skin: where h grew during the solve so that less than half of
+      // it is left, search again to the full skin.
+      if (reusable && !r.beyond_candidates && searched < widest && searched < 2.0 * (1.0 + 0.5 * list_skin_) * r.h)
+        return 2.0 * skin * r.h;
+      const double keep = std::min(searched, 2.0 * skin * p.h[i]);
+      if (reusable) kept_[i] = keep;
+      return keep;
     };
     {
       ScopedPhase t(timers_, "neighbour_search");
@@ -154,7 +164,70 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   }
   // Each pair once, from the gather lists (pair_lists.hpp).
   build_tile_order(grid_, tile_cells(), active, pairs_lists_);
-  build_half_lists_from_gather(candidates_, p.pos, p.h, pairs_lists_);
+  if (reusable) {  // the lists hold every pair closer than either particle's gather radius
+    listed_h_.resize(owned);
+    for (std::size_t i = 0; i < owned; ++i) listed_h_[i] = 0.5 * kept_[i];
+  }
+  build_half_lists_from_gather(candidates_, p.pos, reusable ? listed_h_ : p.h, pairs_lists_);
+  lists_built(p, reusable);
+}
+
+// Solves h_i on the kept gather lists (each particle's candidates within kept_[i] at the build)
+// and keeps every list when the solution and the particles' relative motion leave them complete:
+// each h_i within kept_[i] / 2 and every pair within 2 h_i now listed (list_reuse.hpp). Otherwise
+// h goes back to its start values and the caller rebuilds.
+template <int D>
+template <class K>
+bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
+  const std::size_t n = p.size();
+  h_start_ = p.h;
+  int inside;
+  {
+    ScopedPhase t(timers_, "neighbour_search");
+    inside = par::reduce(n, 1, [&](std::size_t i) {
+      const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
+      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * kept_[i]);
+      p.h[i] = r.h;
+      return r.beyond_candidates ? 0 : 1;
+    }, [](int a, int b) { return a & b; });
+  }
+  if (inside && lists_still_valid(p, [this](std::size_t i) { return kept_[i]; },
+                                  [&p](std::size_t i) { return 2.0 * p.h[i]; }))
+    return true;
+  p.h = h_start_;
+  return false;
+}
+
+template <int D>
+bool RateEvaluator<D>::lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
+                                         const typename ListReuse<D>::Radius& support) {
+  ScopedPhase t(timers_, "list_check");
+  const typename ListReuse<D>::Verdict v = reuse_.check(grid_, p.pos, listed, support);
+  used_ = v.used;
+  return v.valid;
+}
+
+// After a build: the reuse test starts from these positions (when the lists may be reused).
+template <int D>
+void RateEvaluator<D>::lists_built(const Particles<D>& p, bool reusable) {
+  ++list_builds_;
+  last_interval_ = since_build_;
+  since_build_ = 0;
+  used_ = 0;
+  if (reusable) {
+    ScopedPhase t(timers_, "list_check");
+    reuse_.record(grid_, p.pos, p.id);
+  } else {
+    reuse_.forget();
+  }
+}
+
+template <int D>
+bool RateEvaluator<D>::rebuild_due() const {
+  if (!reuse_.recorded()) return false;
+  if (since_build_ >= 2)  // the bound grew over since_build_ - 1 steps; one more step
+    return used_ * static_cast<double>(since_build_) / static_cast<double>(since_build_ - 1) >= 1.0;
+  return last_interval_ == 1;
 }
 
 template <int D>
@@ -169,7 +242,10 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
-    widest_support_ = support;
+    const bool reusable = list_skin_ > 0 && !domain_ && active == p.size();
+    const double listed = reusable ? (1.0 + list_skin_) * support : support;
+    widest_support_ = listed;
+    bool keep = false;
     if (domain_) {
       Lattice<D> lattice;
       {
@@ -182,15 +258,22 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       build_cell_grid(lattice, p.pos, p.id, grid_);
     } else {
       std::fill(p.h.begin(), p.h.end(), h_);
-      ScopedPhase t(timers_, "cell_build");
-      build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
+      keep = reusable && reuse_.same_particles(p.id) &&
+             lists_still_valid(p, [listed](std::size_t) { return listed; }, [support](std::size_t) { return support; });
+      if (!keep) {
+        ScopedPhase t(timers_, "cell_build");
+        build_cell_grid(p.pos, p.id, 0.5 * listed, grid_);
+      }
     }
-    {
-      // Each pair once, searched directly: tiles span the support, so no pair is far.
-      ScopedPhase t(timers_, "neighbour_search");
-      build_tile_order(grid_, tile_cells(), active, pairs_lists_);
-      build_half_neighbour_lists(grid_, p.pos, support, pairs_lists_.slot, active, pairs_lists_.near);
-      no_far_pairs(pairs_lists_);
+    if (!keep) {
+      // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
+      {
+        ScopedPhase t(timers_, "neighbour_search");
+        build_tile_order(grid_, tile_cells(), active, pairs_lists_);
+        build_half_neighbour_lists(grid_, p.pos, listed, pairs_lists_.slot, active, pairs_lists_.near);
+        no_far_pairs(pairs_lists_);
+      }
+      lists_built(p, reusable);
     }
     ScopedPhase t(timers_, "density");
     compute_density(p, pairs_lists_, KernelAt<K, D>(h_), factors_);
@@ -210,6 +293,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
     compute_accelerations(p, pairs_lists_, factors_, phys_, force_scratch_, gravity_);
   }
   ++evaluations_;
+  ++since_build_;
   if (domain_) domain_->remove_ghosts(p);
   pairs_ += pairs_lists_.total();
   updates_ += active;
@@ -229,7 +313,9 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   std::apply([&kernels](const auto&... v) { ((kernels += v.capacity() * sizeof(v[0])), ...); }, kernels_);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
+  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double);
   return {{"half_lists", pairs_lists_.bytes()},
+          {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float)},
           {"bound_kernels", kernels},

@@ -13,6 +13,7 @@
 #include "core/timers.hpp"
 #include "domain/particle_domain.hpp"
 #include "neighbours/cell_grid.hpp"
+#include "neighbours/list_reuse.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "physics/kernels.hpp"
@@ -59,6 +60,19 @@ class RateEvaluator {
   void include_gravity(bool yes) { gravity_ = yes; }
   bool includes_gravity() const { return gravity_; }
 
+  // Neighbour-list reuse (neighbours/list_reuse.hpp): lists are built with radii (1 + skin) x the
+  // supports and kept while the particles' relative motion leaves them complete. 0: built every
+  // evaluation. Reuse needs one process and full evaluations (all particles active); otherwise the
+  // lists are rebuilt.
+  void set_list_skin(double skin) { list_skin_ = skin; }
+  double list_skin() const { return list_skin_; }
+  // Whether the next evaluation will probably rebuild the lists (so reordering the particles
+  // before it, which forces a rebuild, costs nothing): the bound of the last test, extrapolated
+  // linearly in the evaluations since the build, reaches the slack; or the last lists served a
+  // single evaluation.
+  bool rebuild_due() const;
+  std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
+
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
   const PhysicsParams& physics() const { return phys_; }
@@ -82,6 +96,11 @@ class RateEvaluator {
  private:
   template <class K>
   void adaptive_lists(Particles<D>& p, std::size_t active);
+  template <class K>
+  bool reuse_adaptive_lists(Particles<D>& p);
+  bool lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
+                         const typename ListReuse<D>::Radius& support);
+  void lists_built(const Particles<D>& p, bool reusable);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
   int tile_cells() const;
 
@@ -110,6 +129,14 @@ class RateEvaluator {
   std::size_t pairs_ = 0;
   std::size_t updates_ = 0;
   std::size_t halo_widenings_ = 0;
+  double list_skin_ = 0;
+  ListReuse<D> reuse_;
+  std::vector<double> kept_;     // Adaptive: each particle's gather-list radius (listed radius)
+  std::vector<double> listed_h_;  // kept_ / 2: the h whose support the gather lists cover
+  std::size_t list_builds_ = 0;
+  std::size_t since_build_ = 0;    // evaluations served by the current lists
+  std::size_t last_interval_ = 0;  // evaluations served by the previous lists
+  double used_ = 0;                // the last test's bound / slack
 };
 
 }  // namespace sphdisk

@@ -229,6 +229,7 @@ class Runner {
     meta_.units = setup_.units;
     meta_.parameters = cfg.resolved;
     if (distributed()) rates_.set_domain(&domain_);
+    rates_.set_list_skin(cfg.list_skin);
     domain_.comm().barrier();  // a common time origin for every rank's trace track
     trace_origin_us_ = par::trace_now_us();
   }
@@ -358,7 +359,8 @@ class Runner {
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
        << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
        << ", \"decompositions\": " << domain_.recuts() << ", \"count_imbalance\": " << domain_.imbalance()
-       << ", \"rate_evaluations\": " << rates_.evaluations() << ", \"particle_updates\": " << rates_.particle_updates()
+       << ", \"rate_evaluations\": " << rates_.evaluations() << ", \"list_builds\": " << rates_.list_builds()
+       << ", \"particle_updates\": " << rates_.particle_updates()
        << ", \"pair_interactions\": " << rates_.pair_interactions()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
@@ -414,7 +416,8 @@ RunSummary Runner::advance() {
          (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
     if (s_.step > steps_before) rebalance();
-    if (s_.step % reorder_interval(cfg_) == 0) {
+    // With reused lists, reorder when they are about to be rebuilt (a reorder forces a rebuild).
+    if (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0) {
       ScopedPhase timer(timers_, "reorder");
       p_.gather(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
     }
@@ -518,6 +521,14 @@ double calibrated_smoothing_length(const Communicator& comm, Particles<kDim>& p,
   return calibrate_smoothing_length<kDim>(p, neighbours, &domain);
 }
 
+// Neighbour lists are reused only inside one process (rate_evaluator.hpp): refused up front rather
+// than ignored, before any output is written.
+void check_list_reuse(const Communicator& comm, const Config& cfg) {
+  if (comm.size() > 1 && cfg.list_skin > 0)
+    throw UserError("sph.list_skin > 0 needs one process (lists are not reused across ranks); set sph.list_skin = 0 "
+                    "or run without mpirun");
+}
+
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   apply_run_options(cfg, opts);
   const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
@@ -525,6 +536,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, cfg.smoothing == "adaptive");
 
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
+  check_list_reuse(comm, cfg);
   warn_if_threads_share_cpus(comm, opts);
   Particles<kDim> p;
   RunState state;
@@ -575,6 +587,7 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   RunState state;
   Particles<kDim> p = read_checkpoint(path, state, opts.one_process ? Communicator::self() : Communicator::world());
   const Config cfg = parse_config(state.config_toml, path, overrides);
+  check_list_reuse(opts.one_process ? Communicator::self() : Communicator::world(), cfg);
   apply_run_options(cfg, opts);
   warn_if_threads_share_cpus(opts.one_process ? Communicator::self() : Communicator::world(), opts);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));

@@ -1,0 +1,119 @@
+#include "neighbours/list_reuse.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "parallel/loops.hpp"
+
+namespace sphdisk {
+
+namespace {
+
+// Distance between two axis-aligned boxes (0 when they overlap).
+template <int D>
+double box_distance(const Vec<D>& alo, const Vec<D>& ahi, const Vec<D>& blo, const Vec<D>& bhi) {
+  double d2 = 0;
+  for (int k = 0; k < D; ++k) {
+    const double gap = std::max({blo[k] - ahi[k], alo[k] - bhi[k], 0.0});
+    d2 += gap * gap;
+  }
+  return std::sqrt(d2);
+}
+
+}  // namespace
+
+template <int D>
+void ListReuse<D>::record(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id) {
+  id0_ = id;
+  pos0_ = pos;
+  cells_.clear();
+  cells_.reserve(grid.num_cells() / 4);
+  for (std::size_t c = 0; c < grid.num_cells(); ++c)
+    if (grid.offsets[c + 1] > grid.offsets[c]) cells_.push_back({});
+  recorded_ = true;
+}
+
+template <int D>
+bool ListReuse<D>::same_particles(const std::vector<std::uint64_t>& id) const {
+  return recorded_ && id == id0_;
+}
+
+template <int D>
+typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
+                                                   const Radius& listed, const Radius& support) {
+  // Occupied cells, in grid order: their first entries in grid.sorted.
+  std::vector<std::uint32_t> first;
+  first.reserve(cells_.size() + 1);
+  for (std::size_t c = 0; c < grid.num_cells(); ++c)
+    if (grid.offsets[c + 1] > grid.offsets[c]) first.push_back(grid.offsets[c]);
+  first.push_back(static_cast<std::uint32_t>(grid.sorted.size()));
+  const std::size_t nc = cells_.size();
+
+  centres_.resize(nc);
+  centre_id_.resize(nc);
+  par::for_each(nc, [&](std::size_t c) {
+    CellState s;
+    const std::uint32_t i0 = grid.sorted[first[c]];
+    s.shift = pos[i0] - pos0_[i0];
+    s.lo = s.hi = pos[i0];
+    s.slack = std::numeric_limits<double>::infinity();
+    for (std::uint32_t k = first[c]; k < first[c + 1]; ++k) {
+      const std::uint32_t i = grid.sorted[k];
+      s.spread = std::max(s.spread, norm(pos[i] - pos0_[i] - s.shift));
+      for (int d = 0; d < D; ++d) {
+        s.lo[d] = std::min(s.lo[d], pos[i][d]);
+        s.hi[d] = std::max(s.hi[d], pos[i][d]);
+      }
+      const double si = support(i);
+      s.slack = std::min(s.slack, listed(i) - si);
+      s.support = std::max(s.support, si);
+    }
+    cells_[c] = s;
+    centres_[c] = 0.5 * (s.lo + s.hi);
+    centre_id_[c] = c;
+  }, "neighbour_search");
+
+  // Cell pairs whose boxes may be closer than the larger support: centres within
+  // support_c + half diagonal of c + the largest half diagonal, found from c's side when c has the
+  // larger support.
+  double widest_half = 0, mean_reach = 0;
+  for (const CellState& s : cells_) widest_half = std::max(widest_half, 0.5 * norm(s.hi - s.lo));
+  reach_.resize(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    reach_[c] = cells_[c].support + 0.5 * norm(cells_[c].hi - cells_[c].lo) + widest_half;
+    mean_reach += reach_[c];
+  }
+  if (nc == 0) return {true, 0};
+  build_cell_grid(centres_, centre_id_, 0.5 * mean_reach / static_cast<double>(nc), centre_grid_);
+  build_neighbour_lists(centre_grid_, centres_, reach_, close_);
+
+  // Largest bound / slack: a cell with itself (pairs inside it), then the close cell pairs.
+  const double used = par::reduce(nc, 0.0, [&](std::size_t c) {
+    const CellState& a = cells_[c];
+    if (!(a.slack > 0)) return std::numeric_limits<double>::infinity();
+    double worst = 2.0 * a.spread / a.slack;
+    for (const std::uint32_t* it = close_.begin(c); it != close_.end(c); ++it) {
+      const CellState& b = cells_[*it];
+      if (box_distance<D>(a.lo, a.hi, b.lo, b.hi) >= std::max(a.support, b.support)) continue;
+      const double slack = std::min(a.slack, b.slack);
+      if (!(slack > 0)) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, (a.spread + b.spread + norm(a.shift - b.shift)) / slack);
+    }
+    return worst;
+  }, [](double x, double y) { return std::max(x, y); });
+  return {used < 1.0, used};
+}
+
+template <int D>
+std::size_t ListReuse<D>::bytes() const {
+  return id0_.capacity() * sizeof(std::uint64_t) + pos0_.capacity() * sizeof(Vec<D>) +
+         cells_.capacity() * sizeof(CellState) + centres_.capacity() * sizeof(Vec<D>) +
+         centre_id_.capacity() * sizeof(std::uint64_t) + reach_.capacity() * sizeof(double) + centre_grid_.bytes() +
+         close_.bytes();
+}
+
+template class ListReuse<2>;
+template class ListReuse<3>;
+
+}  // namespace sphdisk
