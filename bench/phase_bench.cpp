@@ -96,11 +96,22 @@ void BM_VelocityGradient(benchmark::State& state) {
   finish(state, n, f.pairs);
 }
 
+// Floating-point operations of the force loop (physics/forces.hpp, 2D, pressureless, no force
+// correction), counted from the source: per pair g = (x_i - x_j) F (2 sub + 2 mul), X = S_i / rho_j +
+// S_j / rho_i (4 components x 3), f = X . g (2 x 3), a_i += m_j f and a_j -= m_i f (2 x 4): 30;
+// per particle 1 / rho (1) and the point mass's gravity (|x|^2: 3, sqrt, r^2 r, -GM / that, x * it: 3
+// + 1 + 1 + 1 + 2): 9. Divisions and the square root count as one, as in a FLOP count for a peak.
+constexpr double kForceFlopsPerPair = 30, kForceFlopsPerParticle = 9;
+
 void BM_Forces(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
   for (auto _ : state) compute_accelerations(f.p, f.pairs, f.factors, f.phys, f.scratch);
   finish(state, n, f.pairs);
+  state.counters["flops_per_s"] = benchmark::Counter(
+      (kForceFlopsPerPair * static_cast<double>(f.pairs.total()) + kForceFlopsPerParticle * static_cast<double>(n)) *
+          static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
 }
 
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
