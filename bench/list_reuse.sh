@@ -2,21 +2,12 @@
 # Neighbour-list reuse on the ring (sph.list_skin): the same start run for a number of steps with
 # each skin, integrator and smoothing named, interleaved so that drifts of the machine's speed hit
 # every variant alike; wall time, list builds per evaluation and the phase times of each run.
-# Usage: bench/list_reuse.sh [--particles N] [--steps S] [--threads T] [--rounds R]
+# Usage: [PARTICLES=100000] [STEPS=40] [THREADS=2] [ROUNDS=2] bench/list_reuse.sh
 # Writes runs/list_reuse/N<N>/summary.csv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 exe=build/release/sphdisk
-n=100000 steps=40 threads=2 rounds=2
-while [ $# -gt 0 ]; do
-  case $1 in
-    --particles) n=$2; shift 2 ;;
-    --steps) steps=$2; shift 2 ;;
-    --threads) threads=$2; shift 2 ;;
-    --rounds) rounds=$2; shift 2 ;;
-    *) echo "unknown option $1" >&2; exit 2 ;;
-  esac
-done
+n=${PARTICLES:-100000} steps=${STEPS:-40} threads=${THREADS:-2} rounds=${ROUNDS:-2}
 out=runs/list_reuse/N$n
 mkdir -p "$out"
 summary=$out/summary.csv
