@@ -116,7 +116,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
-        const double wider = 2.0 * kSkin * r.h;
+        const double wider = 2.0 * std::max(kSkin, skin) * r.h;
         if (domain_ && wider > need_[i]) {  // beyond the ghosts: stop here, search again with more
           halo_short_[i] = wider;
           return searched;
