@@ -16,5 +16,21 @@ for t in 2 3 4; do
     if cmp -s "$work/t1/$f" "$work/t$t/$f"; then echo "identical: $f with 1 and $t threads"; else echo "DIFFERENT: $f with 1 and $t threads"; fail=1; fi
   done
 done
+# With neighbour-list reuse (one h, where lists do survive steps): rebuilds and reorderings are
+# decided from positions only, so the runs are identical too, and the lists must in fact be reused.
+for t in 1 3; do
+  OMP_NUM_THREADS=$t "$sphdisk" run -q --output "$work/reuse$t" \
+    --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
+    --set 'sph.smoothing="constant"' --set sph.list_skin=0.2 "$(dirname "$0")/small_ring.toml" > /dev/null
+done
+for f in snapshot_001.hdf5 snapshot_002.hdf5; do
+  if cmp -s "$work/reuse1/$f" "$work/reuse3/$f"; then echo "identical with list reuse: $f with 1 and 3 threads"; else echo "DIFFERENT with list reuse: $f with 1 and 3 threads"; fail=1; fi
+done
+/usr/bin/python3 - "$work/reuse1/ranks.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))[0]
+print(f"list reuse: {r['list_builds']} list builds for {r['rate_evaluations']} evaluations")
+sys.exit(0 if r["list_builds"] < r["rate_evaluations"] else 1)
+PY
 [ $fail -eq 0 ] && echo "thread identity: 1 passed, 0 failed" || echo "thread identity: 0 passed, 1 failed"
 exit $fail
