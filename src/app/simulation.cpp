@@ -585,11 +585,12 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   if (!fs::exists(path))
     throw UserError("no checkpoint in '" + dir + "' (expected " + kCheckpointName + "); start the run again with sphdisk run");
   RunState state;
-  Particles<kDim> p = read_checkpoint(path, state, opts.one_process ? Communicator::self() : Communicator::world());
+  const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
+  Particles<kDim> p = read_checkpoint(path, state, comm);
   const Config cfg = parse_config(state.config_toml, path, overrides);
-  check_list_reuse(opts.one_process ? Communicator::self() : Communicator::world(), cfg);
+  check_list_reuse(comm, cfg);
   apply_run_options(cfg, opts);
-  warn_if_threads_share_cpus(opts.one_process ? Communicator::self() : Communicator::world(), opts);
+  warn_if_threads_share_cpus(comm, opts);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();

@@ -27,10 +27,10 @@ template <int D>
 void ListReuse<D>::record(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id) {
   id0_ = id;
   pos0_ = pos;
-  cells_.clear();
-  cells_.reserve(grid.num_cells() / 4);
+  first_.clear();
   for (std::size_t c = 0; c < grid.num_cells(); ++c)
-    if (grid.offsets[c + 1] > grid.offsets[c]) cells_.push_back({});
+    if (grid.offsets[c + 1] > grid.offsets[c]) first_.push_back(grid.offsets[c]);
+  first_.push_back(static_cast<std::uint32_t>(grid.sorted.size()));
   recorded_ = true;
 }
 
@@ -42,14 +42,10 @@ bool ListReuse<D>::same_particles(const std::vector<std::uint64_t>& id) const {
 template <int D>
 typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                                    const Radius& listed, const Radius& support) {
-  // Occupied cells, in grid order: their first entries in grid.sorted.
-  std::vector<std::uint32_t> first;
-  first.reserve(cells_.size() + 1);
-  for (std::size_t c = 0; c < grid.num_cells(); ++c)
-    if (grid.offsets[c + 1] > grid.offsets[c]) first.push_back(grid.offsets[c]);
-  first.push_back(static_cast<std::uint32_t>(grid.sorted.size()));
-  const std::size_t nc = cells_.size();
-
+  if (!recorded_) return {false, std::numeric_limits<double>::infinity()};
+  const std::vector<std::uint32_t>& first = first_;
+  const std::size_t nc = first.size() - 1;
+  cells_.resize(nc);
   centres_.resize(nc);
   centre_id_.resize(nc);
   par::for_each(nc, [&](std::size_t c) {
@@ -107,7 +103,7 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
 
 template <int D>
 std::size_t ListReuse<D>::bytes() const {
-  return id0_.capacity() * sizeof(std::uint64_t) + pos0_.capacity() * sizeof(Vec<D>) +
+  return id0_.capacity() * sizeof(std::uint64_t) + pos0_.capacity() * sizeof(Vec<D>) + first_.capacity() * sizeof(std::uint32_t) +
          cells_.capacity() * sizeof(CellState) + centres_.capacity() * sizeof(Vec<D>) +
          centre_id_.capacity() * sizeof(std::uint64_t) + reach_.capacity() * sizeof(double) + centre_grid_.bytes() +
          close_.bytes();

@@ -44,7 +44,7 @@ class ListReuse {
 
   // Remembers the particle order and positions of a build on `grid` (whose cells group them).
   void record(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<std::uint64_t>& id);
-  void forget() { id0_.clear(), pos0_.clear(), recorded_ = false; }
+  void forget() { id0_.clear(), pos0_.clear(), first_.clear(), recorded_ = false; }
   bool recorded() const { return recorded_; }
   // Whether the particles are the ones (in the same order) of the recorded build.
   bool same_particles(const std::vector<std::uint64_t>& id) const;
@@ -64,7 +64,8 @@ class ListReuse {
   bool recorded_ = false;
   std::vector<std::uint64_t> id0_;
   std::vector<Vec<D>> pos0_;
-  std::vector<CellState> cells_;      // occupied cells of the build's grid
+  std::vector<std::uint32_t> first_;  // occupied cells of the build's grid: their first entries in grid.sorted, + end
+  std::vector<CellState> cells_;      // state of each occupied cell now
   std::vector<Vec<D>> centres_;       // of the boxes
   std::vector<std::uint64_t> centre_id_;
   std::vector<double> reach_;
