@@ -43,18 +43,18 @@ template <int D>
 typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                                    const Radius& listed, const Radius& support) {
   if (!recorded_) return {false, std::numeric_limits<double>::infinity()};
-  const std::vector<std::uint32_t>& first = first_;
-  const std::size_t nc = first.size() - 1;
+  const std::size_t nc = first_.size() - 1;
+  if (nc == 0) return {true, 0};
   cells_.resize(nc);
   centres_.resize(nc);
   centre_id_.resize(nc);
   par::for_each(nc, [&](std::size_t c) {
     CellState s;
-    const std::uint32_t i0 = grid.sorted[first[c]];
+    const std::uint32_t i0 = grid.sorted[first_[c]];
     s.shift = pos[i0] - pos0_[i0];
     s.lo = s.hi = pos[i0];
     s.slack = std::numeric_limits<double>::infinity();
-    for (std::uint32_t k = first[c]; k < first[c + 1]; ++k) {
+    for (std::uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
       const std::uint32_t i = grid.sorted[k];
       s.spread = std::max(s.spread, norm(pos[i] - pos0_[i] - s.shift));
       for (int d = 0; d < D; ++d) {
@@ -65,6 +65,7 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
       s.slack = std::min(s.slack, listed(i) - si);
       s.support = std::max(s.support, si);
     }
+    s.half_diagonal = 0.5 * norm(s.hi - s.lo);
     cells_[c] = s;
     centres_[c] = 0.5 * (s.lo + s.hi);
     centre_id_[c] = c;
@@ -74,13 +75,12 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
   // support_c + half diagonal of c + the largest half diagonal, found from c's side when c has the
   // larger support.
   double widest_half = 0, mean_reach = 0;
-  for (const CellState& s : cells_) widest_half = std::max(widest_half, 0.5 * norm(s.hi - s.lo));
+  for (const CellState& s : cells_) widest_half = std::max(widest_half, s.half_diagonal);
   reach_.resize(nc);
   for (std::size_t c = 0; c < nc; ++c) {
-    reach_[c] = cells_[c].support + 0.5 * norm(cells_[c].hi - cells_[c].lo) + widest_half;
+    reach_[c] = cells_[c].support + cells_[c].half_diagonal + widest_half;
     mean_reach += reach_[c];
   }
-  if (nc == 0) return {true, 0};
   build_cell_grid(centres_, centre_id_, 0.5 * mean_reach / static_cast<double>(nc), centre_grid_);
   build_neighbour_lists(centre_grid_, centres_, reach_, close_);
 

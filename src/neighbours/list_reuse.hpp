@@ -59,6 +59,7 @@ class ListReuse {
     Vec<D> shift;       // D_c
     double spread = 0;  // e_c
     Vec<D> lo, hi;      // B_c
+    double half_diagonal = 0;
     double slack = 0, support = 0;  // smallest slack, largest support of the cell's particles
   };
   bool recorded_ = false;
