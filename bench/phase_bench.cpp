@@ -50,8 +50,8 @@ struct Fixture {
     p.gather(build_cell_grid(p.pos, p.id, h).sorted);
     build_cell_grid(p.pos, p.id, h, grid);
     search();
-    compute_density(p, pairs, KernelAt<CubicSpline, 2>(h), factors);
-    compute_viscous_stress(p, pairs, factors, phys, sums);
+    compute_density(p, StoredPairs{pairs, factors}, KernelAt<CubicSpline, 2>(h));
+    compute_viscous_stress(p, StoredPairs{pairs, factors}, phys, sums);
   }
 };
 
@@ -85,14 +85,14 @@ void BM_NeighbourSearch(benchmark::State& state) {
 void BM_Density(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_density(f.p, f.pairs, KernelAt<CubicSpline, 2>(f.h), f.factors);
+  for (auto _ : state) compute_density(f.p, StoredPairs{f.pairs, f.factors}, KernelAt<CubicSpline, 2>(f.h));
   finish(state, n, f.pairs);
 }
 
 void BM_VelocityGradient(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_viscous_stress(f.p, f.pairs, f.factors, f.phys, f.sums);
+  for (auto _ : state) compute_viscous_stress(f.p, StoredPairs{f.pairs, f.factors}, f.phys, f.sums);
   finish(state, n, f.pairs);
 }
 
@@ -106,7 +106,7 @@ constexpr double kForceFlopsPerPair = 30, kForceFlopsPerParticle = 9;
 void BM_Forces(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_accelerations(f.p, f.pairs, f.factors, f.phys, f.scratch);
+  for (auto _ : state) compute_accelerations(f.p, StoredPairs{f.pairs, f.factors}, f.phys, f.scratch);
   finish(state, n, f.pairs);
   state.counters["flops_per_s"] = benchmark::Counter(
       (kForceFlopsPerPair * static_cast<double>(f.pairs.total()) + kForceFlopsPerParticle * static_cast<double>(n)) *

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/pair_lists.hpp"
+#include "neighbours/pair_scan.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/smoothing_length.hpp"
@@ -45,6 +46,12 @@ Smoothing smoothing_from_name(std::string_view name) {
   throw UserError("unknown smoothing '" + std::string(name) + "'; use constant or adaptive");
 }
 
+PairStorage pair_storage_from_name(std::string_view name) {
+  if (name == "stored") return PairStorage::Stored;
+  if (name == "rescan") return PairStorage::Rescan;
+  throw UserError("unknown sph.pair_lists '" + std::string(name) + "'; use stored or rescan");
+}
+
 template <int D>
 RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys, PhaseTimers& timers,
                                 Smoothing smoothing, double neighbours)
@@ -69,7 +76,7 @@ template <class K>
 void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   constexpr double kHaloMargin = 1.25;
   const std::size_t owned = p.size();
-  const bool reusable = list_skin_ > 0 && !domain_ && active == owned;
+  const bool reusable = this->reusable(active, owned);
   if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
   if (reusable) kept_.resize(owned);
@@ -134,7 +141,8 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     };
     {
       ScopedPhase t(timers_, "neighbour_search");
-      build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active);
+      if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
+      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active);
     }
     if (!domain_) break;
     bool again = false;
@@ -155,6 +163,10 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   }
   if (domain_) refresh_ghosts(p, GhostStage::SmoothingLength);
   ScopedPhase t(timers_, "neighbour_search");
+  if (storage_ == PairStorage::Rescan) {
+    scan_order(active);
+    return;
+  }
   if (active < p.size()) {
     // Ghosts' (and inactive particles') gather lists with their own h: the pairs that only their own
     // support covers come from them (pair_lists.hpp). Only pairs with an active particle matter.
@@ -233,16 +245,33 @@ bool RateEvaluator<D>::rebuild_due() const {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
   active = std::min(active, p.size());
+  const bool rescan = storage_ == PairStorage::Rescan;
+  std::size_t pair_count = 0;
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
       adaptive_lists<K>(p, active);
-      ScopedPhase t(timers_, "density");
-      compute_density(p, pairs_lists_, std::get<std::vector<KernelAt<K, D>>>(kernels_), factors_);
+      auto& kernels = std::get<std::vector<KernelAt<K, D>>>(kernels_);
+      {
+        ScopedPhase t(timers_, "density");
+        bind_kernels(p, kernels);
+      }
+      const auto density = [&](const auto& pairs) { compute_density(p, pairs, kernels); };
+      if (rescan) {
+        const auto factor = [all = kernels.data()](std::uint32_t i, std::uint32_t j, double r) {
+          return pair_average_factor(all[i], all[j], r);
+        };
+        const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
+        pair_loops(p, scanned, density);
+        pair_count = scanned.pairs_found();
+      } else {
+        pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
+        pair_count = pairs_lists_.total();
+      }
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
-    const bool reusable = list_skin_ > 0 && !domain_ && active == p.size();
+    const bool reusable = this->reusable(active, p.size());
     const double listed = reusable ? (1.0 + list_skin_) * support : support;
     widest_support_ = listed;
     bool keep = false;
@@ -266,37 +295,61 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       }
     }
     if (!keep) {
-      // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
-      {
-        ScopedPhase t(timers_, "neighbour_search");
+      ScopedPhase t(timers_, "neighbour_search");
+      if (rescan) {
+        scan_order(active);
+      } else {
+        // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
         build_half_neighbour_lists(grid_, p.pos, listed, pairs_lists_.slot, active, pairs_lists_.near);
         no_far_pairs(pairs_lists_);
+        lists_built(p, reusable);
       }
-      lists_built(p, reusable);
     }
-    ScopedPhase t(timers_, "density");
-    compute_density(p, pairs_lists_, KernelAt<K, D>(h_), factors_);
+    const KernelAt<K, D> kern(h_);
+    const auto density = [&](const auto& pairs) { compute_density(p, pairs, kern); };
+    if (rescan) {
+      const auto factor = [kern](std::uint32_t, std::uint32_t, double r) { return kern.dW_over_r(r); };
+      const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, true, writable_prefix_, factor);
+      pair_loops(p, scanned, density);
+      pair_count = scanned.pairs_found();
+    } else {
+      pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
+      pair_count = pairs_lists_.total();
+    }
   });
+  ++evaluations_;
+  ++since_build_;
+  if (domain_) domain_->remove_ghosts(p);
+  pairs_ += pair_count;
+  updates_ += active;
+}
+
+template <int D>
+template <class Pairs, class Density>
+void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&& density) {
+  {
+    ScopedPhase t(timers_, "density");
+    density(pairs);
+  }
   refresh_ghosts(p, GhostStage::Density);
   {
     ScopedPhase t(timers_, "velocity_gradient");
-    compute_viscous_stress(p, pairs_lists_, factors_, phys_, gradient_sums_);
+    compute_viscous_stress(p, pairs, phys_, gradient_sums_);
   }
   refresh_ghosts(p, GhostStage::Stress);
   if (phys_.force_correction) {
     ScopedPhase t(timers_, "velocity_gradient");
-    add_force_corrected_heating(p, pairs_lists_, factors_, heating_scratch_);
+    add_force_corrected_heating(p, pairs, heating_scratch_);
   }
-  {
-    ScopedPhase t(timers_, "forces");
-    compute_accelerations(p, pairs_lists_, factors_, phys_, force_scratch_, gravity_);
-  }
-  ++evaluations_;
-  ++since_build_;
-  if (domain_) domain_->remove_ghosts(p);
-  pairs_ += pairs_lists_.total();
-  updates_ += active;
+  ScopedPhase t(timers_, "forces");
+  compute_accelerations(p, pairs, phys_, force_scratch_, gravity_);
+}
+
+template <int D>
+void RateEvaluator<D>::scan_order(std::size_t writable) {
+  build_tile_order(grid_, tile_cells(), writable, pairs_lists_, TileWrites::AllNeighbours);
+  writable_slot_prefix(grid_, writable, writable_prefix_);
 }
 
 // Tiles of the pair schedule span the supports of all but the widest particles.
@@ -313,7 +366,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   std::apply([&kernels](const auto&... v) { ((kernels += v.capacity() * sizeof(v[0])), ...); }, kernels_);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
-  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double);
+  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
   return {{"half_lists", pairs_lists_.bytes()},
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},

@@ -31,6 +31,13 @@ enum class Smoothing {
 
 Smoothing smoothing_from_name(std::string_view name);
 
+enum class PairStorage {
+  Stored,  // neighbour lists and pair factors built once per evaluation, read by every pair loop (pair_lists.hpp)
+  Rescan,  // nothing stored: every pair loop searches its pairs anew (pair_scan.hpp); less memory, slower
+};
+
+PairStorage pair_storage_from_name(std::string_view name);
+
 
 template <int D>
 class RateEvaluator {
@@ -71,6 +78,11 @@ class RateEvaluator {
   // linearly in the evaluations since the build, reaches the slack; or the last lists served a
   // single evaluation.
   bool rebuild_due() const;
+
+  // Whether the pair loops read stored lists or search their pairs anew (PairStorage). Rescan
+  // keeps no lists, so list reuse (set_list_skin) does not apply to it.
+  void set_pair_storage(PairStorage s) { storage_ = s; }
+  PairStorage pair_storage() const { return storage_; }
   std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
 
   double smoothing_length() const { return h_; }
@@ -102,6 +114,15 @@ class RateEvaluator {
                          const typename ListReuse<D>::Radius& support);
   void lists_built(const Particles<D>& p, bool reusable);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
+  // After the lists (Stored) or the tile order (Rescan): density, stress and forces over `pairs`;
+  // density(pairs) runs the density loop.
+  template <class Pairs, class Density>
+  void pair_loops(Particles<D>& p, const Pairs& pairs, Density&& density);
+  // Rescan: the tile order for pairs searched anew, and which grid slots hold writable particles.
+  void scan_order(std::size_t writable);
+  bool reusable(std::size_t active, std::size_t n) const {
+    return list_skin_ > 0 && !domain_ && active == n && storage_ == PairStorage::Stored;
+  }
   int tile_cells() const;
 
   KernelType kernel_;
@@ -118,7 +139,9 @@ class RateEvaluator {
   std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
-  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp)
+  PairStorage storage_ = PairStorage::Stored;
+  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only
+  std::vector<std::uint32_t> writable_prefix_;  // Rescan: writable particles before each grid slot
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
   std::vector<GradientSums<D>> gradient_sums_;

@@ -230,6 +230,7 @@ class Runner {
     meta_.parameters = cfg.resolved;
     if (distributed()) rates_.set_domain(&domain_);
     rates_.set_list_skin(cfg.list_skin);
+    rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));
     domain_.comm().barrier();  // a common time origin for every rank's trace track
     trace_origin_us_ = par::trace_now_us();
   }

@@ -152,6 +152,7 @@ const std::vector<KeyDef>& schema() {
       bool_key("sph.force_correction", &Config::force_correction, "viscous force (eq. 6) with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
       float_key("sph.list_skin", &Config::list_skin, in_range(0, 1), "neighbour lists built to (1 + skin) x the support and kept while the particles' relative motion leaves them complete (0: built every evaluation; one process, not with integrator.scheme = \"block\")"),
+      string_key("sph.pair_lists", &Config::pair_lists, {"stored", "rescan"}, "stored: neighbour lists and pair factors built once per evaluation (fastest); rescan: each pair loop searches its pairs anew and nothing is stored (least memory, slower)"),
       string_key("integrator.scheme", &Config::scheme, {"leapfrog", "respa", "block", "rk23", "rk45"}, "time integrator"),
       float_key("integrator.tolerance", &Config::tolerance, in_range(1e-14, 0.1), "relative error tolerance per step (rk23, rk45)"),
       float_key("integrator.orbital_factor", &Config::orbital_factor, in_range(1e-6, 1), "dt <= factor / Omega (respa, block: the hydrodynamic step)"),
@@ -281,6 +282,9 @@ void check_consistency(const Config& c) {
   if (c.dimension != 2)
     throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
   if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");
+  if (c.list_skin > 0 && c.pair_lists == "rescan")
+    throw UserError("config: sph.list_skin > 0 needs sph.pair_lists = \"stored\" (rescan keeps no lists to reuse); "
+                    "set sph.list_skin = 0 or sph.pair_lists = \"stored\"");
   if (c.list_skin > 0 && c.scheme == "block")
     throw UserError("config: sph.list_skin > 0 cannot be used with integrator.scheme = \"block\" (its partial "
                     "evaluations reorder the particles, so lists are rebuilt every time); set sph.list_skin = 0");

@@ -35,6 +35,7 @@ struct Config {
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
+  std::string pair_lists = "stored";  // stored | rescan (rate_evaluator.hpp, PairStorage)
   double list_skin = 0;            // neighbour-list reuse (rate_evaluator.hpp); 0: lists built every evaluation
   // [integrator]
   std::string scheme = "leapfrog";  // leapfrog | respa | block | rk23 | rk45

@@ -5,48 +5,12 @@
 #include <span>
 
 #include "core/snug_resize.hpp"
+#include "neighbours/candidate_ranges.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
 
 namespace {
-
-// Visits the candidate neighbours of x: the cells within `reach` cells of its cell in every
-// dimension. With x-fastest cell order, the cells of a row are adjacent in `sorted`, so each row is
-// one contiguous range. With `after` (x's own slot) only the candidates after it in cell order: the
-// rest of x's own row of cells, then the rows above (and in 3D the layers above), so that each pair
-// is seen from its first particle only (P98's symmetric sequential variant, Fig. 4).
-template <int D, class F>
-void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, int reach, F&& f,
-                              const std::uint32_t* after = nullptr) {
-  std::array<int, D> c;
-  for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = g.coord(x[k], k);
-  const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
-  const auto first = [&](int k) { return after ? c[static_cast<std::size_t>(k)] : std::max(c[static_cast<std::size_t>(k)] - reach, 0); };
-  std::array<int, D> r = c;
-  auto row = [&](std::array<int, D> cell) {
-    const bool own_row = after && cell == c;
-    cell[0] = x1;
-    const std::uint32_t end = g.offsets[g.linear(cell) + 1];
-    cell[0] = x0;
-    f(own_row ? *after + 1 : g.offsets[g.linear(cell)], end);
-  };
-  if constexpr (D == 1) {
-    row(r);
-  } else if constexpr (D == 2) {
-    for (int y = first(1); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
-      r[1] = y;
-      row(r);
-    }
-  } else {
-    for (int z = first(2); z <= std::min(c[2] + reach, g.dims[2] - 1); ++z)
-      for (int y = z == c[2] ? first(1) : std::max(c[1] - reach, 0); y <= std::min(c[1] + reach, g.dims[1] - 1); ++y) {
-        r[1] = y;
-        r[2] = z;
-        row(r);
-      }
-  }
-}
 
 constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
 
@@ -88,7 +52,9 @@ struct CandidateFilter {
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
 // accept: which candidates are scanned (Accept::kHalf: only those after i in cell order) and
 // accept.for_particle(i)(j) whether candidate j may be i's neighbour.
-template <int D, class Radius, class Settle, class Accept = AllOthers>
+// kKeep = false: nothing is listed; only settle sees each particle's candidates (its smoothing-length
+// solve), and at most one particle's candidates are held at a time.
+template <bool kKeep = true, int D, class Radius, class Settle, class Accept = AllOthers>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
                  Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
                  const Accept& accept = {}) {
@@ -151,11 +117,13 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         }
         break;
       }
+      if (!kKeep) idx.resize(before);
       cnt[i - i0] = static_cast<std::uint32_t>(idx.size() - before);
     }
     idx.swap(block_index[b]);
     cnt.swap(block_count[b]);
   }, "neighbour_search", 1);
+  if (!kKeep) return;
 
   nl.offsets.resize(n + 1);
   nl.offsets[0] = 0;
@@ -201,6 +169,13 @@ void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Ve
               settle, nl);
 }
 
+template <int D>
+void settle_without_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& first_radius,
+                          const SettleRadius& settle, std::size_t count) {
+  NeighbourLists scratch;
+  build_lists<false>(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; }, settle, scratch);
+}
+
 std::size_t NeighbourLists::bytes() const {
   std::size_t b = offsets.capacity() * sizeof(std::size_t) + index.capacity() * sizeof(std::uint32_t);
   for (const auto& v : block_index) b += v.capacity() * sizeof(std::uint32_t);
@@ -232,6 +207,10 @@ template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vecto
                                             const SettleRadius&, NeighbourLists&, std::size_t);
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
                                             const SettleRadius&, NeighbourLists&, std::size_t);
+template void settle_without_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
+                                   const SettleRadius&, std::size_t);
+template void settle_without_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
+                                   const SettleRadius&, std::size_t);
 template void append_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, std::size_t,
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
 template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, std::size_t,

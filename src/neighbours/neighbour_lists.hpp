@@ -65,6 +65,13 @@ void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Ve
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
                                    NeighbourLists& out, std::size_t count = SIZE_MAX);
 
+// The same search with nothing listed: settle(i, candidates, radius) alone sees each particle's
+// candidates (the smoothing-length solve of a run that keeps no lists, pair_scan.hpp), and at most
+// one particle's candidates per thread are held at a time.
+template <int D>
+void settle_without_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& first_radius,
+                          const SettleRadius& settle, std::size_t count = SIZE_MAX);
+
 // Extends lists made for particles [0, first) with gather lists (|x_i - x_j| < radius[i]) of the
 // particles [first, pos.size()), holding only the neighbours with an index below candidates_below
 // (all by default; fewer when only those particles' pairs are wanted, e.g. the active ones of a

@@ -13,13 +13,19 @@ namespace {
 constexpr std::size_t kBlock = 1024;  // listed particles per work unit of the half-list pass
 
 template <int D>
-constexpr int kColours = D == 2 ? 6 : 18;
+constexpr int colours(TileWrites writes) {
+  if (writes == TileWrites::AllNeighbours) return D == 2 ? 9 : 27;
+  return D == 2 ? 6 : 18;
+}
 
-// The colour of the tile at global tile coordinates g (see pair_lists.hpp).
+// The colour of the tile at global tile coordinates g (see pair_lists.hpp): tiles of one colour lie
+// three apart along x (and y, z where they write to the tiles on both sides) and two apart along
+// the last axis where they write only forward.
 template <int D>
-int colour_of(const std::array<int, D>& g) {
-  if constexpr (D == 2) return g[0] % 3 + 3 * (g[1] % 2);
-  else return g[0] % 3 + 3 * (g[1] % 3) + 9 * (g[2] % 2);
+int colour_of(const std::array<int, D>& g, TileWrites writes) {
+  const int last = writes == TileWrites::AllNeighbours ? 3 : 2;
+  if constexpr (D == 2) return g[0] % 3 + 3 * (g[1] % last);
+  else return g[0] % 3 + 3 * (g[1] % 3) + 9 * (g[2] % last);
 }
 
 template <int D>
@@ -76,14 +82,6 @@ void for_each_tile_row(const CellGrid<D>& g, const TileLayout<D>& L, std::size_t
   }
 }
 
-// Whether particles a and b lie in the same or adjacent tiles (tile coordinates, D per particle).
-template <int D>
-bool adjacent(const std::int32_t* a, const std::int32_t* b) {
-  bool yes = true;
-  for (std::size_t k = 0; k < D; ++k) yes &= static_cast<std::uint32_t>(b[k] - a[k] + 1) <= 2u;
-  return yes;
-}
-
 struct Transposed {
   std::uint32_t target, source;  // target comes first in cell order and its own list lacks the pair
   bool far;
@@ -99,10 +97,11 @@ std::size_t PairLists::bytes() const {
 }
 
 template <int D>
-void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out) {
+void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out, TileWrites writes) {
   const std::size_t n = grid.sorted.size();
   out.writable = std::min(writable, n);
   const TileLayout<D> L = tile_layout(grid, std::max(tile_cells, 1));
+  out.tile_cells = L.T;
   const std::size_t ntiles = L.size();
 
   // Tile order: tile sizes, then each tile's slots copied in parallel.
@@ -128,15 +127,16 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }, "neighbour_search", 1);
 
   // Colours: non-empty tiles grouped by colour, in tile order inside a colour.
-  out.colour_start.assign(kColours<D> + 1, 0);
+  const int ncolours = colours<D>(writes);
+  out.colour_start.assign(static_cast<std::size_t>(ncolours) + 1, 0);
   std::vector<int> colour(ntiles);
   for (std::size_t t = 0; t < ntiles; ++t) {
     std::array<int, D> gt;
     for (std::size_t k = 0; k < D; ++k) gt[k] = L.first[k] + L.coord[t][k];
-    colour[t] = colour_of<D>(gt);
+    colour[t] = colour_of<D>(gt, writes);
     if (out.tile_start[t + 1] > out.tile_start[t]) ++out.colour_start[static_cast<std::size_t>(colour[t]) + 1];
   }
-  for (int c = 0; c < kColours<D>; ++c) out.colour_start[static_cast<std::size_t>(c) + 1] += out.colour_start[static_cast<std::size_t>(c)];
+  for (int c = 0; c < ncolours; ++c) out.colour_start[static_cast<std::size_t>(c) + 1] += out.colour_start[static_cast<std::size_t>(c)];
   out.tiles_by_colour.resize(out.colour_start.back());
   {
     std::vector<std::size_t> fill(out.colour_start.begin(), out.colour_start.end() - 1);
@@ -145,7 +145,7 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }
   // Largest tiles first inside each colour, so that the dynamic schedule ends evenly (the order
   // inside a colour changes no result: its tiles write to disjoint particles).
-  for (int c = 0; c < kColours<D>; ++c) {
+  for (int c = 0; c < ncolours; ++c) {
     auto first = out.tiles_by_colour.begin() + static_cast<std::ptrdiff_t>(out.colour_start[static_cast<std::size_t>(c)]);
     auto last = out.tiles_by_colour.begin() + static_cast<std::ptrdiff_t>(out.colour_start[static_cast<std::size_t>(c) + 1]);
     std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) {
@@ -186,7 +186,7 @@ void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& tran
       B.near.resize(end + src.count(i));
       for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
         const std::uint32_t j = *it;
-        const bool later = slot[j] > slot_i, near = adjacent<D>(tile + D * i, tile + D * j);
+        const bool later = slot[j] > slot_i, near = tiles_adjacent<D>(tile + D * i, tile + D * j);
         const bool wanted = i_writable | (j < m);
         B.near[end] = j;
         end += static_cast<std::size_t>(later & near & wanted);
@@ -262,8 +262,8 @@ void no_far_pairs(PairLists& out) {
   out.far.index.clear();
 }
 
-template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&);
-template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&);
+template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&, TileWrites);
+template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&, TileWrites);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 

@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/snug_resize.hpp"
 #include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -38,15 +39,23 @@ struct PairLists {
   std::size_t writable = 0;               // pair terms are wanted for particles [0, writable) only
   std::vector<std::uint32_t> slot;        // each particle's place in cell order (its grid slot)
   std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
+  int tile_cells = 1;                     // cells per tile and dimension
 
   std::size_t total() const { return near.total() + far.total(); }  // pairs; also the pair-factor count
   std::size_t bytes() const;
 };
 
+// Which tiles a tile's pairs write to: itself and the tiles after it (x-1, x+1 and the next row;
+// half lists, a pair owned by its first particle), or every adjacent tile (pairs searched anew by
+// the pair loops, pair_scan.hpp, whose owner may come second). The second needs 9 colours in 2D
+// (27 in 3D) instead of 6 (18).
+enum class TileWrites { Forward, AllNeighbours };
+
 // Step 1: the tile order of the grid's particles (order, tiles, colours, slots) with tiles of
 // tile_cells^D cells; pair terms are wanted for the particles [0, writable).
 template <int D>
-void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out);
+void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out,
+                      TileWrites writes = TileWrites::Forward);
 
 // Step 2, from gather lists with variable smoothing lengths: `gather` holds every particle's list of
 // the j with |x_i - x_j| < 2 h_i (ghosts' and inactive particles' restricted to writable partners,
@@ -60,6 +69,14 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
 // Step 2, searched directly into out.near (build_half_neighbour_lists of neighbour_lists.hpp) with
 // tiles spanning the search radius, so that no pair is far: empties the far lists.
 void no_far_pairs(PairLists& out);
+
+// Whether particles a and b lie in the same or adjacent tiles (tile coordinates, D per particle).
+template <int D>
+bool tiles_adjacent(const std::int32_t* a, const std::int32_t* b) {
+  bool yes = true;
+  for (std::size_t k = 0; k < D; ++k) yes &= static_cast<std::uint32_t>(b[k] - a[k] + 1) <= 2u;
+  return yes;
+}
 
 // Calls f(i, js, k0) once per particle i with a non-empty half list: js its partners, numbered
 // k0, k0 + 1, ... (near pairs first, as per-pair arrays such as the pair factors are indexed).
@@ -89,5 +106,28 @@ void for_each_pair(const PairLists& pl, F&& f, std::string_view trace_label = {}
     for (std::size_t q = 0; q < js.size(); ++q) f(i, js[q], k0 + q);
   }, trace_label);
 }
+
+// What a pair loop does with the kernel-gradient factors of its pairs (physics/pair_factors.hpp):
+// computes them (the density loop) or reads them (the loops after it).
+enum class FactorUse { Write, Read };
+
+// The pairs as the pair loops of physics/ read them (the other form is ScannedPairs of
+// pair_scan.hpp): the stored half lists with one stored factor per pair.
+// for_each_list(f, use) calls f(i, js, F) with F[q] the factor of pair (i, js[q]), to be written
+// (FactorUse::Write) or read; prepare_factors() sizes the factors before they are written.
+struct StoredPairs {
+  const PairLists& lists;
+  std::vector<float>& factors;
+
+  std::size_t writable() const { return lists.writable; }
+  void prepare_factors() const { resize_snug(factors, lists.total()); }
+  template <class F>
+  void for_each_list(F&& f, FactorUse, std::string_view trace_label = {}) const {
+    float* all = factors.data();
+    for_each_pair_list(lists, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+      f(i, js, std::span<float>(all + k0, js.size()));
+    }, trace_label);
+  }
+};
 
 }  // namespace sphdisk

@@ -38,10 +38,10 @@ struct ForceScratch {
 //   a_i += m_j X . g,  a_j -= m_i X . g,   X = S_i / rho_j + S_j / rho_i - (P_i/rho_i^2 + P_j/rho_j^2) I,
 // with g = grad_i W_ij = -grad_j W_ij (or G_ij), and the pressure work (P/rho^2) m (v_i - v_j) . g
 // for both, as (v_j - v_i) . grad_j W = (v_i - v_j) . g.
-template <int D>
-void compute_accelerations(Particles<D>& p, const PairLists& pl, const PairFactors& F, const PhysicsParams& phys,
-                           ForceScratch& scratch, bool with_gravity = true) {
-  const std::size_t m = pl.writable;
+template <int D, class Pairs>
+void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, ForceScratch& scratch,
+                           bool with_gravity = true) {
+  const std::size_t m = pairs.writable();
   const bool with_pressure = phys.eos != EquationOfState::None;
   auto& inv_rho = scratch.inv_rho;
   auto& Pr = scratch.p_over_rho2;
@@ -52,7 +52,7 @@ void compute_accelerations(Particles<D>& p, const PairLists& pl, const PairFacto
     Pr[i] = with_pressure ? pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i] : 0.0;
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
-  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     const Vec<D> xi = p.pos[i], vi = p.vel[i];
     const Mat<D>& Si = p.stress[i];
     const double mi = p.mass[i], inv_rho_i = inv_rho[i], Pr_i = Pr[i];
@@ -60,7 +60,7 @@ void compute_accelerations(Particles<D>& p, const PairLists& pl, const PairFacto
     double du_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
-      Vec<D> g = (xi - p.pos[j]) * static_cast<double>(F[k0 + q]);
+      Vec<D> g = (xi - p.pos[j]) * static_cast<double>(F[q]);
       if (phys.force_correction) g = corrected_pair_gradient(p.correction[i], p.correction[j], g);
       Mat<D> X;
       const Mat<D>& Sj = p.stress[j];
@@ -80,7 +80,7 @@ void compute_accelerations(Particles<D>& p, const PairLists& pl, const PairFacto
       p.acc[i] += ai;
       p.du_dt[i] += du_i;
     }
-  }, "forces");
+  }, FactorUse::Read, "forces");
 }
 
 }  // namespace sphdisk

@@ -64,32 +64,31 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
 // (m_j/rho_j) W_,b / dx_b, each pair visited once (pair_lists.hpp): pair_of(dv, dx) forms what the
 // two particles share, add(sum, weight, shared, other) adds one particle's term (other: the partner).
 // Both particles get the same dv and dx: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx. Sums are kept for
-// the writable particles (pl.writable) and zeroed first.
-template <int D, class T, class PairOf, class Add>
-void sum_velocity_pair_terms(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<T>& sums,
-                             PairOf&& pair_of, Add&& add) {
-  const std::size_t m = pl.writable;
+// the writable particles (pairs.writable()) and zeroed first.
+template <int D, class Pairs, class T, class PairOf, class Add>
+void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vector<T>& sums, PairOf&& pair_of, Add&& add) {
+  const std::size_t m = pairs.writable();
   resize_snug(sums, m);
   par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
-  for_each_pair_list(pl, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
+  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     const Vec<D> xi = p.pos[i], vi = p.vel[i];
     const double Vi = p.volume[i];
     T sum_i{};
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
       const auto shared = pair_of(p.vel[j] - vi, xi - p.pos[j]);
-      const double f = static_cast<double>(F[k0 + q]);
+      const double f = static_cast<double>(F[q]);
       add(sum_i, f * p.volume[j], shared, j);
       if (j < m) add(sums[j], f * Vi, shared, i);
     }
     if (i < m) accumulate(sums[i], sum_i);
-  }, "velocity_gradient");
+  }, FactorUse::Read, "velocity_gradient");
 }
 
 // Eq. 8's V and the moment matrix M of every writable particle.
-template <int D>
-void sum_gradients(const Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<GradientSums<D>>& sums) {
-  sum_velocity_pair_terms(p, pl, F, sums, [](const Vec<D>& dv, const Vec<D>& dx) { return pair_products(dv, dx); },
+template <int D, class Pairs>
+void sum_gradients(const Particles<D>& p, const Pairs& pairs, std::vector<GradientSums<D>>& sums) {
+  sum_velocity_pair_terms(p, pairs, sums, [](const Vec<D>& dv, const Vec<D>& dx) { return pair_products(dv, dx); },
                           [](GradientSums<D>& g, double w, const GradientSums<D>& products, std::uint32_t) {
                             add_gradient_terms(g, w, products);
                           });
@@ -135,11 +134,10 @@ void add_neighbour_corrected_terms(Mat<D>& H, const Mat<D>& C_other, double f, c
 }
 
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
-template <int D>
-void compute_viscous_stress(Particles<D>& p, const PairLists& pl, const PairFactors& F, const PhysicsParams& phys,
-                            std::vector<GradientSums<D>>& sums) {
-  sum_gradients(p, pl, F, sums);
-  par::for_each(pl.writable, [&](std::size_t i) {
+template <int D, class Pairs>
+void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, std::vector<GradientSums<D>>& sums) {
+  sum_gradients(p, pairs, sums);
+  par::for_each(pairs.writable(), [&](std::size_t i) {
     const GradientSums<D>& g = sums[i];
     p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
     if (phys.force_correction) {
@@ -156,16 +154,16 @@ void compute_viscous_stress(Particles<D>& p, const PairLists& pl, const PairFact
 // The second half of the heating with the force correction; reads every neighbour's p.correction,
 // so it runs after compute_viscous_stress has set them all (and the ghosts' have been refreshed).
 // H: scratch.
-template <int D>
-void add_force_corrected_heating(Particles<D>& p, const PairLists& pl, const PairFactors& F, std::vector<Mat<D>>& H) {
+template <int D, class Pairs>
+void add_force_corrected_heating(Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {
   struct Shared {
     Vec<D> dv, dx;
   };
-  sum_velocity_pair_terms(p, pl, F, H, [](const Vec<D>& dv, const Vec<D>& dx) { return Shared{dv, dx}; },
+  sum_velocity_pair_terms(p, pairs, H, [](const Vec<D>& dv, const Vec<D>& dx) { return Shared{dv, dx}; },
                           [&p](Mat<D>& h, double w, const Shared& s, std::uint32_t other) {
                             add_neighbour_corrected_terms(h, p.correction[other], w, s.dv, s.dx);
                           });
-  const std::size_t m = pl.writable;
+  const std::size_t m = pairs.writable();
   par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(p.stress[i], H[i]); }, "velocity_gradient");
 }
 

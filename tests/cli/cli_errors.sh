@@ -46,6 +46,8 @@ expect_error corrupt-ic "corrupt.hdf5" -- run "$work/ic2.toml" -o "$work/o3"
 expect_error bad-set "expected section.key=value" -- run "$(dirname "$0")/../validation/small_ring.toml" --set problem.particles -o "$work/o1"
 expect_error list-skin-range "sph.list_skin must be in" -- run "$(dirname "$0")/../validation/small_ring.toml" --set sph.list_skin=2 -o "$work/o1"
 expect_error list-skin-block "sph.list_skin > 0 cannot be used with integrator.scheme" -- run "$(dirname "$0")/../validation/small_ring.toml" --set sph.list_skin=0.2 --set 'integrator.scheme="block"' -o "$work/o1"
+expect_error list-skin-rescan "sph.list_skin > 0 needs sph.pair_lists = \"stored\"" -- run "$(dirname "$0")/../validation/small_ring.toml" --set sph.list_skin=0.2 --set 'sph.pair_lists="rescan"' -o "$work/o1"
+expect_error pair-lists-name "sph.pair_lists must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.pair_lists="none"' -o "$work/o1"
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 

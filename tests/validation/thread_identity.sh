@@ -32,5 +32,17 @@ r = json.load(open(sys.argv[1]))[0]
 print(f"list reuse: {r['list_builds']} list builds for {r['rate_evaluations']} evaluations")
 sys.exit(0 if r["list_builds"] < r["rate_evaluations"] else 1)
 PY
+# Pairs searched anew by every pair loop (no stored lists), with block timesteps so that partial
+# evaluations (inactive particles as unwritable partners) are covered too.
+for t in 1 2 4; do
+  OMP_NUM_THREADS=$t "$sphdisk" run -q --output "$work/rescan$t" \
+    --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
+    --set 'sph.pair_lists="rescan"' --set 'integrator.scheme="block"' "$(dirname "$0")/small_ring.toml" > /dev/null
+done
+for t in 2 4; do
+  for f in snapshot_001.hdf5 snapshot_002.hdf5; do
+    if cmp -s "$work/rescan1/$f" "$work/rescan$t/$f"; then echo "identical with rescanned pairs: $f with 1 and $t threads"; else echo "DIFFERENT with rescanned pairs: $f with 1 and $t threads"; fail=1; fi
+  done
+done
 [ $fail -eq 0 ] && echo "thread identity: 1 passed, 0 failed" || echo "thread identity: 0 passed, 1 failed"
 exit $fail

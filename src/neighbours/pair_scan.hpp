@@ -1,0 +1,141 @@
+#pragma once
+// Pair loops without stored lists (sph.pair_lists = "rescan"): each pair loop finds every
+// particle's partners anew in the cell grid, as SWIFT does, so no neighbour list or pair factor is
+// kept (the lists and their factors are most of the memory of a run with stored lists,
+// docs/performance.md); the price is the search repeated by every loop and the kernel gradient
+// recomputed for every pair.
+//
+// Each pair with |x_i - x_j| < 2 max(h_i, h_j) and a writable particle is evaluated once, by its
+// owner: the first particle in cell order when the pair lies within its own support 2 h, else the
+// second (then it lies within the second's support). So every particle finds the pairs it owns
+// within its own support radius and no transposition is needed; but an owner may write to a
+// partner before it, in any adjacent tile, so the tiles are coloured for writes to all their
+// neighbours (TileWrites::AllNeighbours, pair_lists.hpp). Pairs whose tiles are not adjacent (a
+// support wider than a tile) are evaluated after all colours, in tile order. Each particle thus gets
+// its pair terms in an order fixed by positions, IDs, smoothing lengths and the lattice: the same
+// bits for any thread or rank count (not the same bits as the stored lists, whose pairs are owned
+// and summed differently). With one smoothing length for all particles the owner is always the
+// first, and only the half of the stencil after it is searched.
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "core/vec.hpp"
+#include "neighbours/candidate_ranges.hpp"
+#include "neighbours/cell_grid.hpp"
+#include "neighbours/pair_lists.hpp"
+#include "parallel/loops.hpp"
+
+namespace sphdisk {
+
+// For each grid slot s, the number of particles below `writable` in the slots before it (size n + 1):
+// what ScannedPairs reads to skip rows of cells without writable partners. Empty when every
+// particle is writable.
+template <int D>
+void writable_slot_prefix(const CellGrid<D>& grid, std::size_t writable, std::vector<std::uint32_t>& prefix) {
+  const std::size_t n = grid.sorted.size();
+  prefix.clear();
+  if (writable >= n) return;
+  prefix.resize(n + 1);
+  prefix[0] = 0;
+  for (std::size_t s = 0; s < n; ++s) prefix[s + 1] = prefix[s] + (grid.sorted[s] < writable ? 1u : 0u);
+}
+
+// tiles: the tile order of build_tile_order(..., TileWrites::AllNeighbours) over `grid` (its near
+// and far lists unused). h: every grid particle's smoothing length (support 2 h); equal_h: all the
+// same. writable_prefix: writable_slot_prefix's count, so that an unwritable particle skips rows of
+// cells without writable partners. factor_of(i, j, r): the pair's kernel-gradient factor
+// (physics/pair_factors.hpp), for loops that read factors.
+template <int D, class FactorOf>
+class ScannedPairs {
+ public:
+  ScannedPairs(const CellGrid<D>& grid, const PairLists& tiles, const std::vector<double>& h, bool equal_h,
+               const std::vector<std::uint32_t>& writable_prefix, FactorOf factor_of)
+      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), prefix_(writable_prefix), factor_of_(factor_of) {}
+
+  std::size_t writable() const { return tiles_.writable; }
+  void prepare_factors() const {}
+  // Pairs found by the last loop that wrote factors (the density loop): the pair count of an evaluation.
+  std::size_t pairs_found() const { return found_.load(); }
+
+  // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs.
+  template <class F>
+  void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
+    if (use == FactorUse::Write) found_ = 0;
+    par::for_each_coloured(tiles_.colour_start, [&](std::size_t c) {
+      const std::uint32_t t = tiles_.tiles_by_colour[c];
+      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) list_of(tiles_.order[s], false, use, f);
+    }, trace_label);
+    for (const std::uint32_t i : tiles_.order)
+      if (reach_of(i) > tiles_.tile_cells) list_of(i, true, use, f);
+  }
+
+ private:
+  int reach_of(std::size_t i) const { return static_cast<int>(std::ceil(2.0 * h_[i] / grid_.cell_size - 1e-12)); }
+
+  // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order.
+  template <class F>
+  void list_of(std::uint32_t i, bool far, FactorUse use, F& f) const {
+    thread_local std::vector<std::uint32_t> js;
+    thread_local std::vector<float> factors;
+    const std::size_t m = tiles_.writable;
+    const bool i_writable = i < m;
+    const Vec<D> xi = grid_.sorted_pos[tiles_.slot[i]];
+    const double si = 2.0 * h_[i], si2 = si * si;
+    const std::uint32_t slot_i = tiles_.slot[i];
+    const int reach = reach_of(i);
+    const bool check_tiles = reach > tiles_.tile_cells;  // else every partner lies in an adjacent tile
+    if (far && !check_tiles) return;
+    const std::int32_t* tile_i = tiles_.tile.data() + D * i;
+    js.clear();
+    const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
+      if (!i_writable && !prefix_.empty() && prefix_[s1] == prefix_[s0]) return;
+      // Branch-free append: every candidate is written, the end advances only for owned pairs.
+      std::size_t end = js.size();
+      js.resize(end + (s1 - s0));
+      std::uint32_t* out = js.data();
+      for (std::uint32_t s = s0; s < s1; ++s) {
+        const std::uint32_t j = grid_.sorted[s];
+        const double d2 = norm2(xi - grid_.sorted_pos[s]);
+        bool owned = (d2 < si2) & (s != slot_i) & (i_writable | (j < m));
+        if (!equal_h_) {
+          const double sj = 2.0 * h_[j];
+          owned &= (s > slot_i) | (d2 >= sj * sj);  // a partner before i owns the pair if its support covers it
+        }
+        out[end] = j;
+        end += static_cast<std::size_t>(owned);
+      }
+      js.resize(end);
+    };
+    if (equal_h_) for_each_candidate_range<D>(grid_, xi, reach, scan, &slot_i);
+    else for_each_candidate_range<D>(grid_, xi, reach, scan);
+    if (check_tiles) {  // keep the pairs of this pass only
+      std::size_t keep = 0;
+      for (const std::uint32_t j : js)
+        if (tiles_adjacent<D>(tile_i, tiles_.tile.data() + D * j) != far) js[keep++] = j;
+      js.resize(keep);
+    }
+    if (js.empty()) return;
+    factors.resize(js.size());
+    if (use == FactorUse::Read) {
+      for (std::size_t q = 0; q < js.size(); ++q)
+        factors[q] = static_cast<float>(factor_of_(i, js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
+    } else {
+      found_ += js.size();
+    }
+    f(i, std::span<const std::uint32_t>(js.data(), js.size()), std::span<float>(factors.data(), factors.size()));
+  }
+
+  const CellGrid<D>& grid_;
+  const PairLists& tiles_;
+  const std::vector<double>& h_;
+  bool equal_h_;
+  const std::vector<std::uint32_t>& prefix_;
+  FactorOf factor_of_;
+  mutable std::atomic<std::size_t> found_{0};
+};
+
+}  // namespace sphdisk

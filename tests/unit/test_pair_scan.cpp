@@ -1,0 +1,213 @@
+// Pair loops without stored lists (neighbours/pair_scan.hpp, sph.pair_lists = "rescan"): every
+// pair with |x_i - x_j| < 2 max(h_i, h_j) and a writable particle exactly once (brute force, 2D and
+// 3D, varying h, far pairs, unwritable particles), tiles of one colour far enough apart to write to
+// disjoint particles, the same order of pair terms for any thread count, and rates equal to those
+// of stored lists.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "app/rate_evaluator.hpp"
+#include "neighbours/pair_scan.hpp"
+#include "parallel/loops.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+// Particles with smoothing lengths h0 (equal_h) or h0 x [0.6, 1.4) with every 50th particle's eight
+// times wider (supports wider than a tile: far pairs).
+template <int D>
+Particles<D> with_smoothing_lengths(Particles<D> p, double h0, bool equal_h, unsigned seed) {
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<double> u(0.6, 1.4);
+  for (std::size_t i = 0; i < p.size(); ++i) p.h[i] = equal_h ? h0 : h0 * u(g) * (i % 50 == 7 ? 8.0 : 1.0);
+  return p;
+}
+
+template <int D>
+struct ScanSetup {
+  Particles<D> p;
+  CellGrid<D> grid;
+  PairLists tiles;
+  std::vector<std::uint32_t> prefix;
+  bool equal_h;
+  ScanSetup(Particles<D> particles, double h0, bool equal, std::size_t writable, int tile_cells)
+      : p(std::move(particles)), equal_h(equal) {
+    build_cell_grid(p.pos, p.id, h0, grid);
+    build_tile_order(grid, tile_cells, writable, tiles, TileWrites::AllNeighbours);
+    writable_slot_prefix(grid, writable, prefix);
+  }
+  // A factor that tells the pair apart from others (to check what FactorUse::Read hands over).
+  static double factor(std::uint32_t i, std::uint32_t j, double r) { return r + 1e-3 * (i + j); }
+  template <class F>
+  void for_each_list(F&& f, FactorUse use) const {
+    const ScannedPairs<D, double (*)(std::uint32_t, std::uint32_t, double)> pairs(grid, tiles, p.h, equal_h, prefix, &factor);
+    pairs.for_each_list(f, use);
+  }
+};
+
+template <int D>
+void check_every_pair_once(Particles<D> particles, double h0, bool equal_h, std::size_t writable, int tile_cells,
+                           bool expect_far) {
+  ScanSetup<D> s(with_smoothing_lengths(std::move(particles), h0, equal_h, 5), h0, equal_h, writable, tile_cells);
+  const std::size_t n = s.p.size();
+  std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t j = i + 1; j < n; ++j) {
+      const double support = 2.0 * std::max(s.p.h[i], s.p.h[j]);
+      if ((i < writable || j < writable) && norm2(s.p.pos[i] - s.p.pos[j]) < support * support) expected.insert({i, j});
+    }
+  ASSERT_GT(expected.size(), n);  // dense enough to mean something
+  par::set_threads(1);  // the visits are recorded in one container
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> visits;
+  std::size_t far = 0;
+  bool factors_right = true;
+  s.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
+    ASSERT_EQ(F.size(), js.size());
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      ++visits[{std::min(i, j), std::max(i, j)}];
+      far += !tiles_adjacent<D>(s.tiles.tile.data() + D * i, s.tiles.tile.data() + D * j);
+      factors_right &= F[q] == static_cast<float>(ScanSetup<D>::factor(i, j, norm(s.p.pos[i] - s.p.pos[j])));
+    }
+  }, FactorUse::Read);
+  par::set_threads(0);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> got;
+  for (const auto& [pair, count] : visits) {
+    EXPECT_EQ(count, 1) << "pair " << pair.first << ", " << pair.second << " visited " << count << " times";
+    got.insert(pair);
+  }
+  EXPECT_EQ(got, expected);
+  EXPECT_TRUE(factors_right) << "FactorUse::Read must hand over factor_of(i, j, r) of each pair";
+  if (expect_far) EXPECT_GT(far, 0u);
+  else EXPECT_EQ(far, 0u);
+}
+
+}  // namespace
+
+TEST(PairScan, EveryPairOnceWithOneSmoothingLength) {
+  check_every_pair_once(test::random_particles<2>(1500, 41, true), 0.02, true, 1500, 4, false);
+  check_every_pair_once(test::random_particles<3>(1500, 42, false), 0.06, true, 1500, 2, false);
+}
+TEST(PairScan, EveryPairOnceWithVaryingSmoothingLengths) {
+  check_every_pair_once(test::random_particles<2>(1500, 43, true), 0.015, false, 1500, 16, false);
+  check_every_pair_once(test::random_particles<3>(1500, 44, false), 0.05, false, 1500, 16, false);
+}
+// Every 50th particle's support spans several one- or two-cell tiles: its far pairs come after the colours.
+TEST(PairScan, PairsBeyondTheAdjacentTilesOnce) {
+  check_every_pair_once(test::random_particles<2>(1500, 45, true), 0.015, false, 1500, 1, true);
+  check_every_pair_once(test::random_particles<3>(1500, 46, false), 0.05, false, 1500, 2, true);
+}
+// Particles from `writable` on (ghosts, inactive particles) only count with writable partners.
+TEST(PairScan, PairsOfTwoUnwritableParticlesLeftOut) {
+  check_every_pair_once(test::random_particles<2>(1500, 47, true), 0.015, false, 600, 2, true);
+  check_every_pair_once(test::random_particles<2>(1500, 48, false), 0.02, true, 900, 4, false);
+  check_every_pair_once(test::random_particles<3>(1500, 49, true), 0.05, false, 700, 2, true);
+}
+
+// A tile's pairs write to it and its adjacent tiles only (checked above: non-adjacent pairs come
+// after the colours), so tiles of one colour must lie at least three tiles apart along some axis.
+TEST(PairScan, TilesOfOneColourThreeApart) {
+  for (int tile_cells : {1, 2}) {
+    ScanSetup<2> s(with_smoothing_lengths(test::random_particles<2>(3000, 50, false), 0.01, false, 5), 0.01, false, 3000,
+                   tile_cells);
+    ScanSetup<3> s3(with_smoothing_lengths(test::random_particles<3>(3000, 51, false), 0.04, false, 5), 0.04, false, 3000,
+                    tile_cells);
+    auto check = [](const auto& tiles, int dims) {
+      ASSERT_EQ(tiles.colour_start.size(), dims == 2 ? 10u : 28u);
+      // A tile's coordinates: those of its first particle.
+      auto coord = [&](std::uint32_t t, int k) { return tiles.tile[static_cast<std::size_t>(dims) * tiles.order[tiles.tile_start[t]] + static_cast<std::size_t>(k)]; };
+      for (std::size_t c = 0; c + 1 < tiles.colour_start.size(); ++c)
+        for (std::size_t a = tiles.colour_start[c]; a < tiles.colour_start[c + 1]; ++a)
+          for (std::size_t b = a + 1; b < tiles.colour_start[c + 1]; ++b) {
+            bool apart = false;
+            for (int k = 0; k < dims; ++k)
+              apart |= std::abs(coord(tiles.tiles_by_colour[a], k) - coord(tiles.tiles_by_colour[b], k)) >= 3;
+            ASSERT_TRUE(apart) << "colour " << c << ": tiles " << tiles.tiles_by_colour[a] << " and " << tiles.tiles_by_colour[b];
+          }
+    };
+    check(s.tiles, 2);
+    check(s3.tiles, 3);
+  }
+}
+
+// A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.
+TEST(PairScan, SameOrderOfPairTermsForAnyThreadCount) {
+  ScanSetup<2> s(with_smoothing_lengths(test::random_particles<2>(4000, 52, true), 0.01, false, 5), 0.01, false, 3000, 1);
+  auto sums = [&](int threads) {
+    par::set_threads(threads);
+    std::vector<double> acc(s.p.size(), 0.0);
+    s.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float>) {
+      for (const std::uint32_t j : js) {
+        const double t = 1.0 / (1.0 + 1e3 * norm2(s.p.pos[i] - s.p.pos[j])) + 1e-9 * i;
+        acc[i] = acc[i] * 0.999 + t;  // not associative: any change of order changes the bits
+        acc[j] = acc[j] * 0.999 - t;
+      }
+    }, FactorUse::Write);
+    par::set_threads(0);
+    return acc;
+  };
+  const auto one = sums(1);
+  for (int threads : {2, 3, 4}) EXPECT_EQ(sums(threads), one) << threads << " threads";
+}
+
+namespace {
+
+// Rates with pairs searched anew equal those with stored lists, to round-off (the same pairs,
+// summed in another order; the smoothing lengths are solved from the same candidates in the same
+// order, so they are identical): a sheared, jittered lattice with viscosity and pressure, on all
+// particles and on an active subset (block timesteps), with and without the force correction.
+void check_rates_equal_stored(Smoothing smoothing, bool force_correction, std::size_t active) {
+  auto p0 = test::square_lattice(40, 0.02);
+  std::mt19937_64 g(53);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto& x : p0.pos) x += Vec<2>{{0.006 * u(g), 0.006 * u(g)}};
+  for (std::size_t i = 0; i < p0.size(); ++i) p0.vel[i] = Vec<2>{{1.5 * p0.pos[i][1] + 0.1 * u(g), 0.2 * p0.pos[i][0]}};
+  std::fill(p0.h.begin(), p0.h.end(), 0.025);
+  PhysicsParams phys;
+  phys.nu = 0.01;
+  phys.gm = 0.0;
+  phys.eos = EquationOfState::Isothermal;
+  phys.sound_speed = 0.3;
+  phys.force_correction = force_correction;
+  PhaseTimers timers;
+  Particles<2> stored_p = p0, scanned_p = p0;
+  RateEvaluator<2> stored(KernelType::Cubic, 0.025, phys, timers, smoothing, 50);
+  RateEvaluator<2> scanned(KernelType::Cubic, 0.025, phys, timers, smoothing, 50);
+  scanned.set_pair_storage(PairStorage::Rescan);
+  for (int pass = 0; pass < 2; ++pass) {  // the second from the first's h and rho (block: inactive ones' too)
+    stored.evaluate(stored_p, pass == 0 ? stored_p.size() : active);
+    scanned.evaluate(scanned_p, pass == 0 ? scanned_p.size() : active);
+  }
+  EXPECT_EQ(scanned.pair_interactions(), stored.pair_interactions());
+  double acc_scale = 0, du_scale = 0;
+  for (std::size_t i = 0; i < p0.size(); ++i) {
+    acc_scale = std::max(acc_scale, norm(stored_p.acc[i]));
+    du_scale = std::max(du_scale, std::abs(stored_p.du_dt[i]));
+  }
+  for (std::size_t i = 0; i < p0.size(); ++i) {
+    ASSERT_EQ(scanned_p.h[i], stored_p.h[i]) << "particle " << i;
+    ASSERT_NEAR(scanned_p.rho[i], stored_p.rho[i], 1e-13 * stored_p.rho[i]) << "particle " << i;
+    ASSERT_LT(norm(scanned_p.acc[i] - stored_p.acc[i]), 1e-12 * acc_scale) << "particle " << i;
+    ASSERT_NEAR(scanned_p.du_dt[i], stored_p.du_dt[i], 1e-12 * du_scale) << "particle " << i;
+    for (std::size_t c = 0; c < 4; ++c)
+      ASSERT_NEAR(scanned_p.stress[i].c[c], stored_p.stress[i].c[c], 1e-12 * (std::abs(stored_p.stress[i].c[c]) + 1e-3)) << "particle " << i;
+  }
+  if (active == p0.size()) test::expect_momentum_and_energy_conserved(scanned_p, "rescanned pairs");
+}
+
+}  // namespace
+
+TEST(PairScan, RatesEqualStoredListsConstantH) { check_rates_equal_stored(Smoothing::Constant, false, 1600); }
+TEST(PairScan, RatesEqualStoredListsAdaptiveH) { check_rates_equal_stored(Smoothing::Adaptive, false, 1600); }
+TEST(PairScan, RatesEqualStoredListsWithForceCorrection) { check_rates_equal_stored(Smoothing::Adaptive, true, 1600); }
+TEST(PairScan, RatesEqualStoredListsForActiveParticles) {
+  check_rates_equal_stored(Smoothing::Adaptive, false, 500);
+  check_rates_equal_stored(Smoothing::Constant, false, 700);
+}
