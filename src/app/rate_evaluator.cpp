@@ -251,23 +251,25 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
       adaptive_lists<K>(p, active);
+      if (rescan) {
+        // No per-particle kernels kept either: each is made from h where needed (the same values).
+        const auto kernel_of = [&p](std::size_t i) { return KernelAt<K, D>(p.h[i]); };
+        const auto factor = [&kernel_of](std::uint32_t i) {
+          return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) { return pair_average_factor(ki, kernel_of(j), r); };
+        };
+        const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
+        pair_loops(p, scanned, [&](const auto& pairs) { compute_density(p, pairs, kernel_of); });
+        pair_count = scanned.pairs_found();
+        return;
+      }
       auto& kernels = std::get<std::vector<KernelAt<K, D>>>(kernels_);
       {
         ScopedPhase t(timers_, "density");
         bind_kernels(p, kernels);
       }
-      const auto density = [&](const auto& pairs) { compute_density(p, pairs, kernels); };
-      if (rescan) {
-        const auto factor = [all = kernels.data()](std::uint32_t i, std::uint32_t j, double r) {
-          return pair_average_factor(all[i], all[j], r);
-        };
-        const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
-        pair_loops(p, scanned, density);
-        pair_count = scanned.pairs_found();
-      } else {
-        pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
-        pair_count = pairs_lists_.total();
-      }
+      const auto kernel_of = [&kernels](std::size_t i) -> const KernelAt<K, D>& { return kernels[i]; };
+      pair_loops(p, StoredPairs{pairs_lists_, factors_}, [&](const auto& pairs) { compute_density(p, pairs, kernel_of); });
+      pair_count = pairs_lists_.total();
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
@@ -309,7 +311,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
     const KernelAt<K, D> kern(h_);
     const auto density = [&](const auto& pairs) { compute_density(p, pairs, kern); };
     if (rescan) {
-      const auto factor = [kern](std::uint32_t, std::uint32_t, double r) { return kern.dW_over_r(r); };
+      const auto factor = [kern](std::uint32_t) { return [kern](std::uint32_t, double r) { return kern.dW_over_r(r); }; };
       const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, true, writable_prefix_, factor);
       pair_loops(p, scanned, density);
       pair_count = scanned.pairs_found();

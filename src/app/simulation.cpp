@@ -420,7 +420,10 @@ RunSummary Runner::advance() {
     // With reused lists, reorder when they are about to be rebuilt (a reorder forces a rebuild).
     if (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0) {
       ScopedPhase timer(timers_, "reorder");
-      p_.gather(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
+      // Only the order is kept: the grid is freed before the fields are copied (the peak memory of
+      // a run without stored lists lies here).
+      const std::vector<std::uint32_t> order = std::move(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
+      p_.gather(order);
     }
     const std::size_t updates_before = rates_.particle_updates();
     const std::size_t n_before = distributed() ? global_count() : p_.size();

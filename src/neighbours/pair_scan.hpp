@@ -47,8 +47,8 @@ void writable_slot_prefix(const CellGrid<D>& grid, std::size_t writable, std::ve
 // tiles: the tile order of build_tile_order(..., TileWrites::AllNeighbours) over `grid` (its near
 // and far lists unused). h: every grid particle's smoothing length (support 2 h); equal_h: all the
 // same. writable_prefix: writable_slot_prefix's count, so that an unwritable particle skips rows of
-// cells without writable partners. factor_of(i, j, r): the pair's kernel-gradient factor
-// (physics/pair_factors.hpp), for loops that read factors.
+// cells without writable partners. factor_of(i) returns (j, r) -> the kernel-gradient factor of
+// the pair (i, j) at distance r (physics/pair_factors.hpp), for the loops that read factors.
 template <int D, class FactorOf>
 class ScannedPairs {
  public:
@@ -121,8 +121,9 @@ class ScannedPairs {
     if (js.empty()) return;
     factors.resize(js.size());
     if (use == FactorUse::Read) {
+      const auto factor = factor_of_(i);
       for (std::size_t q = 0; q < js.size(); ++q)
-        factors[q] = static_cast<float>(factor_of_(i, js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
+        factors[q] = static_cast<float>(factor(js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
     } else {
       found_ += js.size();
     }

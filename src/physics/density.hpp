@@ -75,13 +75,15 @@ void bind_kernels(const Particles<D>& p, std::vector<KernelAt<K, D>>& kernels) {
   par::for_each(p.size(), [&](std::size_t i) { kernels[i] = KernelAt<K, D>(p.h[i]); }, "density");
 }
 
-// Per-particle smoothing lengths p.h, with kernels bound by bind_kernels.
-template <class K, int D, class Pairs>
-void compute_density(Particles<D>& p, const Pairs& pairs, const std::vector<KernelAt<K, D>>& kernels) {
-  sum_density(p, pairs, [&kernels](std::size_t i) { return kernels[i].W(0.0); },
-              [&kernels](std::uint32_t i) {
-                return [ki = kernels[i], all = kernels.data()](std::uint32_t j, double r) {
-                  return PairKernel{ki.W(r), all[j].W(r), pair_average_factor(ki, all[j], r)};
+// Per-particle smoothing lengths p.h. kernel_of(i): particle i's KernelAt<K, D> (bound by
+// bind_kernels, or made from p.h[i] where no per-particle kernels are kept; the same values).
+template <int D, class Pairs, class KernelOf>
+void compute_density(Particles<D>& p, const Pairs& pairs, KernelOf&& kernel_of) {
+  sum_density(p, pairs, [&kernel_of](std::size_t i) { return kernel_of(i).W(0.0); },
+              [&kernel_of](std::uint32_t i) {
+                return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) {
+                  const auto kj = kernel_of(j);
+                  return PairKernel{ki.W(r), kj.W(r), pair_average_factor(ki, kj, r)};
                 };
               });
 }

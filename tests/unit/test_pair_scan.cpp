@@ -47,7 +47,8 @@ struct ScanSetup {
   static double factor(std::uint32_t i, std::uint32_t j, double r) { return r + 1e-3 * (i + j); }
   template <class F>
   void for_each_list(F&& f, FactorUse use) const {
-    const ScannedPairs<D, double (*)(std::uint32_t, std::uint32_t, double)> pairs(grid, tiles, p.h, equal_h, prefix, &factor);
+    const auto factor_of = [](std::uint32_t i) { return [i](std::uint32_t j, double r) { return factor(i, j, r); }; };
+    const ScannedPairs<D, decltype(factor_of)> pairs(grid, tiles, p.h, equal_h, prefix, factor_of);
     pairs.for_each_list(f, use);
   }
 };
