@@ -82,6 +82,23 @@ rc=$?
 if [ $rc -eq 75 ] && grep -q "sphdisk resume" "$work/term.err"; then ok "SIGTERM: exit 75 with the resume command"; else bad "SIGTERM: rc=$rc $(cat "$work/term.err")"; fi
 if OMP_NUM_THREADS=3 "$sphdisk" resume "$dir" -q > /dev/null && same_as_reference "$dir"; then ok "SIGTERM then resume on 3 threads: identical snapshots"; else bad "SIGTERM resume"; fi
 
+# Without stored lists (sph.pair_lists = "rescan"): SIGKILL, then resume on another thread count.
+rargs=("${args[@]}" --set 'sph.pair_lists="rescan"')
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref_rescan" "${rargs[@]}" > /dev/null
+dir=$work/kill_rescan
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${rargs[@]}" > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 200); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.02; done
+sleep 0.5
+kill -9 $pid 2> /dev/null
+wait $pid 2> /dev/null
+if OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null &&
+   cmp -s "$work/ref_rescan/snapshot_001.hdf5" "$dir/snapshot_001.hdf5" && cmp -s "$work/ref_rescan/snapshot_002.hdf5" "$dir/snapshot_002.hdf5"; then
+  ok "rescanned pairs: SIGKILL, resumed on 1 thread: identical snapshots"
+else
+  bad "rescanned pairs: SIGKILL and resume"
+fi
+
 # A corrupted checkpoint is refused, and nothing is written.
 cp "$work/ref/checkpoint.hdf5" "$work/corrupt.hdf5"
 size=$(stat -c %s "$work/corrupt.hdf5")
