@@ -78,12 +78,12 @@ class RateEvaluator {
   // linearly in the evaluations since the build, reaches the slack; or the last lists served a
   // single evaluation.
   bool rebuild_due() const;
+  std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
 
   // Whether the pair loops read stored lists or search their pairs anew (PairStorage). Rescan
   // keeps no lists, so list reuse (set_list_skin) does not apply to it.
   void set_pair_storage(PairStorage s) { storage_ = s; }
   PairStorage pair_storage() const { return storage_; }
-  std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
 
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }

@@ -82,7 +82,7 @@ void compute_density(Particles<D>& p, const Pairs& pairs, KernelOf&& kernel_of) 
   sum_density(p, pairs, [&kernel_of](std::size_t i) { return kernel_of(i).W(0.0); },
               [&kernel_of](std::uint32_t i) {
                 return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) {
-                  const auto kj = kernel_of(j);
+                  const auto& kj = kernel_of(j);  // a reference to a bound kernel, or a temporary
                   return PairKernel{ki.W(r), kj.W(r), pair_average_factor(ki, kj, r)};
                 };
               });

@@ -4,7 +4,9 @@
 // where r is known anyway) and read by the velocity-gradient and force loops, which then need no
 // square root, division or kernel evaluation. Stored in single precision (as the paper notes,
 // single precision halves the memory; accumulation stays double). F_ij and F_ji come from the same
-// r and are bitwise equal, so momentum and energy conservation stay exact.
+// r and are bitwise equal, so momentum and energy conservation stay exact. Without stored lists
+// (neighbours/pair_scan.hpp) each loop computes them again from r and rounds them to single
+// precision the same way, so every loop still sees the same factor of a pair.
 #include <vector>
 
 namespace sphdisk {
