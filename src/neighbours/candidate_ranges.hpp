@@ -4,12 +4,20 @@
 // their partners anew instead of storing lists (pair_scan.hpp).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
 
 namespace sphdisk {
+
+// Cells to scan on each side of a point's cell for neighbours within `radius` (a radius of exactly k
+// cells needs k: the margin keeps round-off from adding a row).
+template <int D>
+int cells_within(const CellGrid<D>& g, double radius) {
+  return static_cast<int>(std::ceil(radius / g.cell_size - 1e-12));
+}
 
 // Visits the candidate neighbours of x: the cells within `reach` cells of its cell in every
 // dimension. With x-fastest cell order, the cells of a row are adjacent in `sorted`, so each row is

@@ -81,7 +81,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
       const std::size_t before = idx.size();
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
-        const int reach = static_cast<int>(std::ceil(radius / grid.cell_size - 1e-12));
+        const int reach = cells_within(grid, radius);
         const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
           if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
           // Branch-free append: every candidate is written, the end advances only for neighbours.

@@ -74,7 +74,7 @@ class ScannedPairs {
   }
 
  private:
-  int reach_of(std::size_t i) const { return static_cast<int>(std::ceil(2.0 * h_[i] / grid_.cell_size - 1e-12)); }
+  int reach_of(std::size_t i) const { return cells_within(grid_, 2.0 * h_[i]); }
 
   // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order.
   template <class F>
