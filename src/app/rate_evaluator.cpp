@@ -131,6 +131,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
         return wider;
       }
       p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
+      p.rho[i] = r.rho;  // at p.h[i] (beyond: at h_max = searched / 2)
       // Lists to be reused need their skin: where h grew during the solve so that less than half of
       // it is left, search again to the full skin.
       if (reusable && !r.beyond_candidates && searched < widest && searched < 2.0 * (1.0 + 0.5 * list_skin_) * r.h)
@@ -200,6 +201,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
       const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * kept_[i]);
       p.h[i] = r.h;
+      p.rho[i] = r.rho;
       return r.beyond_candidates ? 0 : 1;
     }, [](int a, int b) { return a & b; });
   }
@@ -258,7 +260,7 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
           return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) { return pair_average_factor(ki, kernel_of(j), r); };
         };
         const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
-        pair_loops(p, scanned, [&](const auto& pairs) { compute_density(p, pairs, kernel_of); });
+        pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
         pair_count = scanned.pairs_found();
         return;
       }
@@ -268,7 +270,10 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
         bind_kernels(p, kernels);
       }
       const auto kernel_of = [&kernels](std::size_t i) -> const KernelAt<K, D>& { return kernels[i]; };
-      pair_loops(p, StoredPairs{pairs_lists_, factors_}, [&](const auto& pairs) { compute_density(p, pairs, kernel_of); });
+      pair_loops(p, StoredPairs{pairs_lists_, factors_}, [&](const auto& pairs) {
+        compute_pair_factors(p, pairs, kernel_of);
+        set_volumes(p, pairs.writable());
+      });
       pair_count = pairs_lists_.total();
       return;
     }

@@ -58,13 +58,13 @@ class ScannedPairs {
 
   std::size_t writable() const { return tiles_.writable; }
   void prepare_factors() const {}
-  // Pairs found by the last loop that wrote factors (the density loop): the pair count of an evaluation.
+  // Pairs found by the last loop (every loop finds the same ones): the pair count of an evaluation.
   std::size_t pairs_found() const { return found_.load(); }
 
   // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs.
   template <class F>
   void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
-    if (use == FactorUse::Write) found_ = 0;
+    found_ = 0;
     par::for_each_coloured(tiles_.colour_start, [&](std::size_t c) {
       const std::uint32_t t = tiles_.tiles_by_colour[c];
       for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) list_of(tiles_.order[s], false, use, f);
@@ -124,9 +124,8 @@ class ScannedPairs {
       const auto factor = factor_of_(i);
       for (std::size_t q = 0; q < js.size(); ++q)
         factors[q] = static_cast<float>(factor(js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
-    } else {
-      found_ += js.size();
     }
+    found_ += js.size();
     f(i, std::span<const std::uint32_t>(js.data(), js.size()), std::span<float>(factors.data(), factors.size()));
   }
 

@@ -2,10 +2,11 @@
 // Density by summation (P98 eq. 4 with f = rho; physics.md sec. 2), self term included:
 //   rho_i = sum_j m_j W(|x_i - x_j|, h_i).
 // In 2D rho is the surface density Sigma.
-// Each pair is visited once (pair_lists.hpp): its distance, both kernel values and its
-// kernel-gradient factor (pair_factors.hpp) are computed once and serve both particles. With one
-// global h the factor is dW(r, h)/dr / r; with variable h it is the pair average of dW(r, h_i)/dr / r
-// and dW(r, h_j)/dr / r (pair_lists.hpp), symmetric in i <-> j as momentum conservation needs.
+// With one global h the sum is a pair loop: each pair is visited once (pair_lists.hpp), its
+// distance, both kernel values and its kernel-gradient factor dW(r, h)/dr / r (pair_factors.hpp) are
+// computed once and serve both particles. With variable h the smoothing-length solve has summed rho
+// already (smoothing_length.hpp) and the pair loop forms only the factors: the pair average of
+// dW(r, h_i)/dr / r and dW(r, h_j)/dr / r, symmetric in i <-> j as momentum conservation needs.
 // The particle volume m/rho, the weight of every later pair sum (eqs. 6, 8), is stored with rho.
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
@@ -27,6 +28,11 @@ struct PairKernel {
 // a kernel read through a reference would be reloaded after every store to rho, which may alias
 // it); self_W(i) = W(0, h_i).
 // pairs: StoredPairs (pair_lists.hpp) or ScannedPairs (pair_scan.hpp).
+template <int D>
+void set_volumes(Particles<D>& p, std::size_t writable) {
+  par::for_each(writable, [&](std::size_t i) { p.volume[i] = p.mass[i] / p.rho[i]; }, "density");
+}
+
 template <int D, class Pairs, class SelfW, class PairKernelOf>
 void sum_density(Particles<D>& p, const Pairs& pairs, SelfW&& self_W, PairKernelOf&& pair_kernel_of) {
   pairs.prepare_factors();
@@ -46,7 +52,7 @@ void sum_density(Particles<D>& p, const Pairs& pairs, SelfW&& self_W, PairKernel
     }
     if (i < m) p.rho[i] += rho_i;
   }, FactorUse::Write, "density");
-  par::for_each(m, [&](std::size_t i) { p.volume[i] = p.mass[i] / p.rho[i]; }, "density");
+  set_volumes(p, m);
 }
 
 // One global smoothing length.
@@ -75,17 +81,19 @@ void bind_kernels(const Particles<D>& p, std::vector<KernelAt<K, D>>& kernels) {
   par::for_each(p.size(), [&](std::size_t i) { kernels[i] = KernelAt<K, D>(p.h[i]); }, "density");
 }
 
-// Per-particle smoothing lengths p.h. kernel_of(i): particle i's KernelAt<K, D> (bound by
-// bind_kernels, or made from p.h[i] where no per-particle kernels are kept; the same values).
-template <int D, class Pairs, class KernelOf>
-void compute_density(Particles<D>& p, const Pairs& pairs, KernelOf&& kernel_of) {
-  sum_density(p, pairs, [&kernel_of](std::size_t i) { return kernel_of(i).W(0.0); },
-              [&kernel_of](std::uint32_t i) {
-                return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) {
-                  const auto& kj = kernel_of(j);  // a reference to a bound kernel, or a temporary
-                  return PairKernel{ki.W(r), kj.W(r), pair_average_factor(ki, kj, r)};
-                };
-              });
+// Per-particle smoothing lengths p.h: rho_i came with h_i from the smoothing-length solve (the same
+// sum over the same neighbours, smoothing_length.hpp), so the pair loop only forms the pairs'
+// kernel-gradient factors (stored pairs; rescanned pairs form them in each loop and skip this one).
+// kernel_of(i): particle i's KernelAt<K, D> (bound by bind_kernels, or made from p.h[i]).
+template <int D, class KernelOf>
+void compute_pair_factors(const Particles<D>& p, const StoredPairs& pairs, KernelOf&& kernel_of) {
+  pairs.prepare_factors();
+  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
+    const Vec<D> xi = p.pos[i];
+    const auto ki = kernel_of(i);
+    for (std::size_t q = 0; q < js.size(); ++q)
+      factors[q] = static_cast<float>(pair_average_factor(ki, kernel_of(js[q]), norm(xi - p.pos[js[q]])));
+  }, FactorUse::Write, "density");
 }
 
 }  // namespace sphdisk
