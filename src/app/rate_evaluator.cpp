@@ -119,8 +119,9 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     search_radius_.resize(active);
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
-    const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, double searched) {
-      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * searched);
+    const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
+                                    double searched) {
+      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched);
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
         const double wider = 2.0 * std::max(kSkin, skin) * r.h;
@@ -199,7 +200,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
     ScopedPhase t(timers_, "neighbour_search");
     inside = par::reduce(n, 1, [&](std::size_t i) {
       const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
-      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, p.h[i], eta_, 0.5 * kept_[i]);
+      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i]);
       p.h[i] = r.h;
       p.rho[i] = r.rho;
       return r.beyond_candidates ? 0 : 1;
@@ -269,11 +270,14 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
         ScopedPhase t(timers_, "density");
         bind_kernels(p, kernels);
       }
-      const auto kernel_of = [&kernels](std::size_t i) -> const KernelAt<K, D>& { return kernels[i]; };
-      pair_loops(p, StoredPairs{pairs_lists_, factors_}, [&](const auto& pairs) {
-        compute_pair_factors(p, pairs, kernel_of);
-        set_volumes(p, pairs.writable());
-      });
+      // rho came with h; the pair factors are formed by the velocity-gradient loop on its way.
+      const auto factor = [&kernels, &p](std::uint32_t i) {
+        return [ki = kernels[i], xi = p.pos[i], &kernels, &p](std::uint32_t j) {
+          return pair_average_factor(ki, kernels[j], norm(xi - p.pos[j]));
+        };
+      };
+      const StoredPairsFormingFactors<decltype(factor)> pairs(pairs_lists_, factors_, factor);
+      pair_loops(p, pairs, [&](const auto&) { set_volumes(p, pairs.writable()); });
       pair_count = pairs_lists_.total();
       return;
     }

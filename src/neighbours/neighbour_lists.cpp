@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <type_traits>
 
 #include "core/snug_resize.hpp"
 #include "neighbours/candidate_ranges.hpp"
@@ -15,7 +16,7 @@ namespace {
 constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
 
 struct KeepAll {
-  double operator()(std::size_t, std::span<const std::uint32_t>, double radius) const { return radius; }
+  double operator()(std::size_t, std::span<const std::uint32_t>, std::span<const double>, double radius) const { return radius; }
 };
 
 // Every candidate other than i itself, in the full stencil around i.
@@ -59,6 +60,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
                  Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
                  const Accept& accept = {}) {
   const bool filtered = !filter.slot_prefix.empty();
+  const std::uint32_t below = filter.below;  // a local: the stores to the lists below could alias filter.below
   const std::size_t n = last - first;
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   auto& block_index = nl.block_index;
@@ -66,7 +68,10 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
   block_index.resize(nblocks);
   block_count.resize(nblocks);
 
+  // A settle that looks at its candidates gets their squared distances with them.
+  constexpr bool kDistances = !std::is_same_v<std::decay_t<Settle>, KeepAll>;
   par::for_each(nblocks, [&](std::size_t b) {
+    thread_local std::vector<double> d2;  // of the current particle's candidates
     // Work on local vectors (their headers sit in this thread's cache), reusing the block's memory:
     // pushing through block_index[b] directly would make neighbouring blocks false-share headers.
     std::vector<std::uint32_t> idx, cnt;
@@ -88,11 +93,14 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           // About half the candidates are accepted at random, so a branch here mispredicts often.
           std::size_t end = idx.size();
           idx.resize(end + (s1 - s0));
+          if constexpr (kDistances) d2.resize(end - before + (s1 - s0));
           std::uint32_t* out = idx.data();
           for (std::uint32_t s = s0; s < s1; ++s) {
             const std::uint32_t j = grid.sorted[s];
+            const double dist2 = norm2(grid.sorted_pos[s] - xi);
             out[end] = j;
-            end += static_cast<std::size_t>((norm2(grid.sorted_pos[s] - xi) < r2) & accept_i(j) & (j < filter.below));
+            if constexpr (kDistances) d2[end - before] = dist2;
+            end += static_cast<std::size_t>((dist2 < r2) & accept_i(j) & (j < below));
           }
           idx.resize(end);
         };
@@ -102,7 +110,9 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         } else {
           for_each_candidate_range<D>(grid, xi, reach, scan);
         }
-        const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, idx.size() - before), radius);
+        const std::size_t found = idx.size() - before;
+        const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, found),
+                                   std::span<const double>(d2.data(), kDistances ? found : 0), radius);
         if (keep > radius) {  // search again, wider
           idx.resize(before);
           radius = keep;
@@ -112,7 +122,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           const double keep2 = keep * keep;
           std::size_t out = before;
           for (std::size_t k = before; k < idx.size(); ++k)
-            if (norm2(pos[idx[k]] - xi) < keep2) idx[out++] = idx[k];
+            if ((kDistances ? d2[k - before] : norm2(pos[idx[k]] - xi)) < keep2) idx[out++] = idx[k];
           idx.resize(out);
         }
         break;

@@ -53,11 +53,13 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
                            NeighbourLists& out);
 
 // Gather lists whose radius each particle settles from its own candidates: particle i's
-// candidates within first_radius[i] are passed to settle(i, candidates, searched_radius), which
-// returns the radius to keep (<= searched; entries beyond it are dropped, order kept) or a larger
-// radius to search again. Used to solve adaptive smoothing lengths during the search itself
-// (physics/smoothing_length.hpp). settle runs in parallel, once per particle and search.
-using SettleRadius = std::function<double(std::size_t, std::span<const std::uint32_t>, double)>;
+// candidates within first_radius[i] are passed to settle(i, candidates, dist2, searched_radius),
+// dist2[k] = |x_i - x_candidates[k]|^2 (the search computed them anyway; passed on, they spare the
+// solve a gather of positions by index), which returns the radius to keep (<= searched; entries
+// beyond it are dropped, order kept) or a larger radius to search again. Used to solve adaptive
+// smoothing lengths during the search itself (physics/smoothing_length.hpp). settle runs in
+// parallel, once per particle and search.
+using SettleRadius = std::function<double(std::size_t, std::span<const std::uint32_t>, std::span<const double>, double)>;
 
 // Lists are made for the first `count` particles (the rest, e.g. ghosts, are only candidates).
 template <int D>
@@ -65,7 +67,7 @@ void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Ve
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
                                    NeighbourLists& out, std::size_t count = SIZE_MAX);
 
-// The same search with nothing listed: settle(i, candidates, radius) alone sees each particle's
+// The same search with nothing listed: settle(i, candidates, dist2, radius) alone sees each particle's
 // candidates (the smoothing-length solve of a run that keeps no lists, pair_scan.hpp), and at most
 // one particle's candidates per thread are held at a time.
 template <int D>

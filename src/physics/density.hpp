@@ -5,8 +5,9 @@
 // With one global h the sum is a pair loop: each pair is visited once (pair_lists.hpp), its
 // distance, both kernel values and its kernel-gradient factor dW(r, h)/dr / r (pair_factors.hpp) are
 // computed once and serve both particles. With variable h the smoothing-length solve has summed rho
-// already (smoothing_length.hpp) and the pair loop forms only the factors: the pair average of
-// dW(r, h_i)/dr / r and dW(r, h_j)/dr / r, symmetric in i <-> j as momentum conservation needs.
+// already (smoothing_length.hpp), and the factors, the pair average of dW(r, h_i)/dr / r and
+// dW(r, h_j)/dr / r (symmetric in i <-> j as momentum conservation needs), are formed by the first
+// pair loop that reads them.
 // The particle volume m/rho, the weight of every later pair sum (eqs. 6, 8), is stored with rho.
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
@@ -82,18 +83,8 @@ void bind_kernels(const Particles<D>& p, std::vector<KernelAt<K, D>>& kernels) {
 }
 
 // Per-particle smoothing lengths p.h: rho_i came with h_i from the smoothing-length solve (the same
-// sum over the same neighbours, smoothing_length.hpp), so the pair loop only forms the pairs'
-// kernel-gradient factors (stored pairs; rescanned pairs form them in each loop and skip this one).
-// kernel_of(i): particle i's KernelAt<K, D> (bound by bind_kernels, or made from p.h[i]).
-template <int D, class KernelOf>
-void compute_pair_factors(const Particles<D>& p, const StoredPairs& pairs, KernelOf&& kernel_of) {
-  pairs.prepare_factors();
-  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
-    const Vec<D> xi = p.pos[i];
-    const auto ki = kernel_of(i);
-    for (std::size_t q = 0; q < js.size(); ++q)
-      factors[q] = static_cast<float>(pair_average_factor(ki, kernel_of(js[q]), norm(xi - p.pos[js[q]])));
-  }, FactorUse::Write, "density");
-}
+// sum over the same neighbours, smoothing_length.hpp); what is left of the density stage is the
+// volumes. The pair factors (pair_average_factor) are formed by the first pair loop that reads them
+// (StoredPairsFormingFactors, pair_lists.hpp; rescanned pairs form them in every loop).
 
 }  // namespace sphdisk

@@ -45,16 +45,20 @@ struct SmoothingLengthResult {
 // relative Newton step (Phantom uses 1e-4). The step that falls below it is still taken; the unit
 // tests check that h then solves the density equation to 1e-6 (with 1e-3 here some particles were
 // 3e-3 off, so the tolerance is not loosened to save iterations).
+// dist2: the candidates' squared distances |x_i - x_j|^2 where the search has them, else empty.
 template <class K, int D>
 SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, std::span<const std::uint32_t> cand,
-                                          double h_start, double eta, double h_max, double tolerance = 1e-4) {
+                                          std::span<const double> dist2, double h_start, double eta, double h_max,
+                                          double tolerance = 1e-4) {
   // m_j and r_ij once; every iteration re-reads them contiguously.
   thread_local std::vector<double> mass, dist;
   mass.resize(cand.size());
   dist.resize(cand.size());
-  for (std::size_t k = 0; k < cand.size(); ++k) {
-    mass[k] = p.mass[cand[k]];
-    dist[k] = norm(p.pos[i] - p.pos[cand[k]]);
+  for (std::size_t k = 0; k < cand.size(); ++k) mass[k] = p.mass[cand[k]];
+  if (dist2.size() == cand.size()) {
+    for (std::size_t k = 0; k < cand.size(); ++k) dist[k] = std::sqrt(dist2[k]);
+  } else {
+    for (std::size_t k = 0; k < cand.size(); ++k) dist[k] = norm(p.pos[i] - p.pos[cand[k]]);
   }
   const double mi = p.mass[i];
   // rho(h) and d rho/dh: sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)) (the latter is
