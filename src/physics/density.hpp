@@ -21,51 +21,40 @@
 
 namespace sphdisk {
 
-struct PairKernel {
-  double w_i, w_j, factor;  // W(r, h_i), W(r, h_j), (1/r) dW/dr averaged over the pair
-};
-
-// pair_kernel_of(i) -> a function (j, r) -> PairKernel of i's pairs (holding i's kernel by value:
-// a kernel read through a reference would be reloaded after every store to rho, which may alias
-// it); self_W(i) = W(0, h_i).
-// pairs: StoredPairs (pair_lists.hpp) or ScannedPairs (pair_scan.hpp).
+// The volumes m/rho of the writable particles. With variable h this is all that is left of the
+// density stage: rho_i came with h_i from the smoothing-length solve, and the pair factors
+// (pair_average_factor below) are formed by the first pair loop that reads them
+// (StoredPairsFormingFactors, pair_lists.hpp; rescanned pairs form them in every loop).
 template <int D>
 void set_volumes(Particles<D>& p, std::size_t writable) {
   par::for_each(writable, [&](std::size_t i) { p.volume[i] = p.mass[i] / p.rho[i]; }, "density");
 }
 
-template <int D, class Pairs, class SelfW, class PairKernelOf>
-void sum_density(Particles<D>& p, const Pairs& pairs, SelfW&& self_W, PairKernelOf&& pair_kernel_of) {
+// One global smoothing length: W(r, h) and the factor serve both particles of a pair.
+// pairs: StoredPairs (pair_lists.hpp) or ScannedPairs (pair_scan.hpp).
+template <class K, int D, class Pairs>
+void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& kern) {
   pairs.prepare_factors();
   const std::size_t m = pairs.writable();
-  par::for_each(m, [&](std::size_t i) { p.rho[i] = p.mass[i] * self_W(i); }, "density");
+  const double self_W = kern.W(0.0);
+  par::for_each(m, [&](std::size_t i) { p.rho[i] = p.mass[i] * self_W; }, "density");
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
+    // The kernel by value: read through a reference it would be reloaded after every store to rho,
+    // which may alias it.
+    const KernelAt<K, D> k = kern;
     const Vec<D> xi = p.pos[i];
     const double mi = p.mass[i];
-    const auto pair_kernel = pair_kernel_of(i);
     double rho_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
-      const PairKernel w = pair_kernel(j, norm(xi - p.pos[j]));
-      factors[q] = static_cast<float>(w.factor);
-      rho_i += p.mass[j] * w.w_i;
-      if (j < m) p.rho[j] += mi * w.w_j;
+      const double r = norm(xi - p.pos[j]), w = k.W(r);
+      factors[q] = static_cast<float>(k.dW_over_r(r));
+      rho_i += p.mass[j] * w;
+      if (j < m) p.rho[j] += mi * w;
     }
     if (i < m) p.rho[i] += rho_i;
   }, FactorUse::Write, "density");
   set_volumes(p, m);
-}
-
-// One global smoothing length.
-template <class K, int D, class Pairs>
-void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& kern) {
-  const double w0 = kern.W(0.0);
-  sum_density(p, pairs, [w0](std::size_t) { return w0; }, [&kern](std::uint32_t) {
-    return [k = kern](std::uint32_t, double r) {
-      const double w = k.W(r);
-      return PairKernel{w, w, k.dW_over_r(r)};
-    };
-  });
 }
 
 // The kernel-gradient factor of a pair with variable h: (dW_i/dr + dW_j/dr) / (2 r), one division;
@@ -81,10 +70,5 @@ void bind_kernels(const Particles<D>& p, std::vector<KernelAt<K, D>>& kernels) {
   kernels.resize(p.size(), KernelAt<K, D>(1.0));
   par::for_each(p.size(), [&](std::size_t i) { kernels[i] = KernelAt<K, D>(p.h[i]); }, "density");
 }
-
-// Per-particle smoothing lengths p.h: rho_i came with h_i from the smoothing-length solve (the same
-// sum over the same neighbours, smoothing_length.hpp); what is left of the density stage is the
-// volumes. The pair factors (pair_average_factor) are formed by the first pair loop that reads them
-// (StoredPairsFormingFactors, pair_lists.hpp; rescanned pairs form them in every loop).
 
 }  // namespace sphdisk
