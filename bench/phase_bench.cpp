@@ -1,13 +1,21 @@
 // Microbenchmarks of the phases of one rate evaluation (Google Benchmark), on the ring of the
 // default job in cell order: cell build, neighbour search, density, velocity gradient + stress,
-// forces. Argument: particle count. Each reports particle-updates per second ("items").
+// forces (one global h, each phase alone); and a whole leapfrog step with adaptive h (the default
+// run's step, the search with the smoothing-length solve included), its phases split by the run's
+// own phase timers. Argument: particle count. Each reports particle-updates per second ("items").
 //   build/release/bench/phase_bench --benchmark_format=csv > phases.csv
 // Threads: OMP_NUM_THREADS (the parallel layer's default).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "integrate/integrator.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
@@ -114,12 +122,38 @@ void BM_Forces(benchmark::State& state) {
       benchmark::Counter::kIsRate);
 }
 
+// Leapfrog steps of the ring with adaptive h, as a run takes them (RateEvaluator: each particle's h
+// solved from its value of the previous step during the neighbour search, then the pair loops).
+// Counters: seconds per step of each phase (the evaluator's phase timers), so the search with the
+// h solve, which the constant-h phases above leave out, is measured too. The ring evolves from
+// step to step (the first step solves h from the global h and is not timed).
+void BM_AdaptiveStep(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Particles<2> p = fixture(n).p;
+  std::fill(p.h.begin(), p.h.end(), fixture(n).h);  // the start value of the first solve
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, fixture(n).h, fixture(n).phys, timers, Smoothing::Adaptive, kNeighbours);
+  const auto leapfrog = make_integrator<2>(IntegratorParams{}, rates);
+  leapfrog->start(p);
+  leapfrog->step(p, std::numeric_limits<double>::infinity());
+  const std::vector<std::pair<std::string, double>> before = timers.phases();
+  for (auto _ : state) leapfrog->step(p, std::numeric_limits<double>::infinity());
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+  for (const auto& [phase, seconds] : timers.phases()) {
+    double earlier = 0;
+    for (const auto& [name, s0] : before)
+      if (name == phase) earlier = s0;
+    state.counters["s_" + phase] = benchmark::Counter(seconds - earlier, benchmark::Counter::kAvgIterations);
+  }
+}
+
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
 SPHDISK_PHASE(BM_CellBuild);
 SPHDISK_PHASE(BM_NeighbourSearch);
 SPHDISK_PHASE(BM_Density);
 SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);
+SPHDISK_PHASE(BM_AdaptiveStep);
 
 }  // namespace
 
