@@ -58,19 +58,20 @@ class ScannedPairs {
 
   std::size_t writable() const { return tiles_.writable; }
   void prepare_factors() const {}
-  // Pairs found by the last loop (every loop finds the same ones): the pair count of an evaluation.
+  // Pairs found by the first loop (every loop finds the same ones): the pair count of an evaluation.
   std::size_t pairs_found() const { return found_.load(); }
 
   // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs.
   template <class F>
   void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
-    found_ = 0;
+    const bool count = !counted_;  // one atomic add per list in the first loop only
+    counted_ = true;
     par::for_each_coloured(tiles_.colour_start, [&](std::size_t c) {
       const std::uint32_t t = tiles_.tiles_by_colour[c];
-      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) list_of(tiles_.order[s], false, use, f);
+      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) list_of(tiles_.order[s], false, use, count, f);
     }, trace_label);
     for (const std::uint32_t i : tiles_.order)
-      if (reach_of(i) > tiles_.tile_cells) list_of(i, true, use, f);
+      if (reach_of(i) > tiles_.tile_cells) list_of(i, true, use, count, f);
   }
 
  private:
@@ -78,7 +79,7 @@ class ScannedPairs {
 
   // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order.
   template <class F>
-  void list_of(std::uint32_t i, bool far, FactorUse use, F& f) const {
+  void list_of(std::uint32_t i, bool far, FactorUse use, bool count, F& f) const {
     thread_local std::vector<std::uint32_t> js;
     thread_local std::vector<float> factors;
     const std::size_t m = tiles_.writable;
@@ -125,7 +126,7 @@ class ScannedPairs {
       for (std::size_t q = 0; q < js.size(); ++q)
         factors[q] = static_cast<float>(factor(js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
     }
-    found_ += js.size();
+    if (count) found_ += js.size();
     f(i, std::span<const std::uint32_t>(js.data(), js.size()), std::span<float>(factors.data(), factors.size()));
   }
 
@@ -136,6 +137,7 @@ class ScannedPairs {
   const std::vector<std::uint32_t>& prefix_;
   FactorOf factor_of_;
   mutable std::atomic<std::size_t> found_{0};
+  mutable bool counted_ = false;
 };
 
 }  // namespace sphdisk

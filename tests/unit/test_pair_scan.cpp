@@ -45,11 +45,27 @@ struct ScanSetup {
   }
   // A factor that tells the pair apart from others (to check what FactorUse::Read hands over).
   static double factor(std::uint32_t i, std::uint32_t j, double r) { return r + 1e-3 * (i + j); }
-  template <class F>
-  void for_each_list(F&& f, FactorUse use) const {
+  // g(pairs) with the ScannedPairs of this set (made anew for each call, as for each evaluation).
+  template <class G>
+  void with_pairs(G&& g) const {
     const auto factor_of = [](std::uint32_t i) { return [i](std::uint32_t j, double r) { return factor(i, j, r); }; };
     const ScannedPairs<D, decltype(factor_of)> pairs(grid, tiles, p.h, equal_h, prefix, factor_of);
-    pairs.for_each_list(f, use);
+    g(pairs);
+  }
+  template <class F>
+  void for_each_list(F&& f, FactorUse use) const {
+    with_pairs([&](const auto& pairs) { pairs.for_each_list(f, use); });
+  }
+  // The pair count an evaluation reports after its loops (here two): each pair counted once.
+  std::size_t pairs_found_after_two_loops() const {
+    std::size_t found = 0;
+    with_pairs([&](const auto& pairs) {
+      const auto nothing = [](std::uint32_t, std::span<const std::uint32_t>, std::span<float>) {};
+      pairs.for_each_list(nothing, FactorUse::Read);
+      pairs.for_each_list(nothing, FactorUse::Write);
+      found = pairs.pairs_found();
+    });
+    return found;
   }
 };
 
@@ -85,6 +101,7 @@ void check_every_pair_once(Particles<D> particles, double h0, bool equal_h, std:
     got.insert(pair);
   }
   EXPECT_EQ(got, expected);
+  EXPECT_EQ(s.pairs_found_after_two_loops(), expected.size());
   EXPECT_TRUE(factors_right) << "FactorUse::Read must hand over factor_of(i, j, r) of each pair";
   if (expect_far) EXPECT_GT(far, 0u);
   else EXPECT_EQ(far, 0u);
