@@ -86,3 +86,13 @@ TEST(Config, ErrorsAreOneLine) {
 TEST(Config, MissingFileIsAUserError) {
   EXPECT_THROW(load_config("/nonexistent/ring.toml", {}), UserError);
 }
+
+// Strings open only where TOML lets them begin; quoted text (non-ASCII included) elsewhere is
+// refused before toml++ sees it (fuzz-found undefined behaviour: tests/fuzz_regressions/), while
+// strings after '=', '[', ',', '{', a line start or a dotted key's '.' still parse.
+TEST(Config, QuotesOnlyWhereStringsMayBegin) {
+  for (const std::string bad : {"[output]\ntau = [0.03e'\xc3\x96']\n", "[output]\ndir = 1.'x'\n", "[output]\ndir = x\"y\"\n"})
+    EXPECT_NE(error_of(bad).find("inside a bare value"), std::string::npos) << bad;
+  EXPECT_EQ(error_of("[output]\ndir = 'runs/\xc3\xa9t\xc3\xa9' # \xc3\xa9\n\"tau\" = [ 0.05,\n  0.09 ]\n"), "");
+  EXPECT_EQ(error_of("output.dir = \"runs/x\"\nproblem.'seed' = 3\n"), "");
+}
