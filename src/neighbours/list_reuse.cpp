@@ -48,12 +48,13 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
   cells_.resize(nc);
   centres_.resize(nc);
   centre_id_.resize(nc);
+  ranked_.resize(grid.sorted.size());
   par::for_each(nc, [&](std::size_t c) {
     CellState s;
     const std::uint32_t i0 = grid.sorted[first_[c]];
     s.shift = pos[i0] - pos0_[i0];
     s.lo = s.hi = pos[i0];
-    s.slack = std::numeric_limits<double>::infinity();
+    s.slack = s.narrowest = std::numeric_limits<double>::infinity();
     for (std::uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
       const std::uint32_t i = grid.sorted[k];
       s.spread = std::max(s.spread, norm(pos[i] - pos0_[i] - s.shift));
@@ -62,9 +63,15 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
         s.hi[d] = std::max(s.hi[d], pos[i][d]);
       }
       const double si = support(i);
-      s.slack = std::min(s.slack, listed(i) - si);
+      ranked_[k] = {si, listed(i) - si};
+      s.slack = std::min(s.slack, ranked_[k].slack);
       s.support = std::max(s.support, si);
+      s.narrowest = std::min(s.narrowest, si);
     }
+    // By support, widest first, each with the smallest slack so far (margin() reads a prefix).
+    const auto begin = ranked_.begin() + first_[c], end = ranked_.begin() + first_[c + 1];
+    std::sort(begin, end, [](const Ranked& a, const Ranked& b) { return a.support > b.support; });
+    for (auto it = begin + 1; it < end; ++it) it->slack = std::min(it->slack, (it - 1)->slack);
     s.half_diagonal = 0.5 * norm(s.hi - s.lo);
     cells_[c] = s;
     centres_[c] = 0.5 * (s.lo + s.hi);
@@ -84,15 +91,16 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
   build_cell_grid(centres_, centre_id_, 0.5 * mean_reach / static_cast<double>(nc), centre_grid_);
   build_neighbour_lists(centre_grid_, centres_, reach_, close_);
 
-  // Largest bound / slack: a cell with itself (pairs inside it), then the close cell pairs.
+  // Largest bound / margin: a cell with itself (pairs inside it), then the close cell pairs.
   const double used = par::reduce(nc, 0.0, [&](std::size_t c) {
     const CellState& a = cells_[c];
     if (!(a.slack > 0)) return std::numeric_limits<double>::infinity();
     double worst = 2.0 * a.spread / a.slack;
     for (const std::uint32_t* it = close_.begin(c); it != close_.end(c); ++it) {
       const CellState& b = cells_[*it];
-      if (box_distance<D>(a.lo, a.hi, b.lo, b.hi) >= std::max(a.support, b.support)) continue;
-      const double slack = std::min(a.slack, b.slack);
+      const double apart = box_distance<D>(a.lo, a.hi, b.lo, b.hi);
+      const double slack = std::min(margin(c, apart), margin(*it, apart));
+      if (slack == std::numeric_limits<double>::infinity()) continue;  // no support reaches the other cell
       if (!(slack > 0)) return std::numeric_limits<double>::infinity();
       worst = std::max(worst, (a.spread + b.spread + norm(a.shift - b.shift)) / slack);
     }
@@ -101,10 +109,21 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
   return {used < 1.0, used};
 }
 
+// The smallest slack of cell c's particles whose support exceeds `apart` (infinite if none): only
+// they can have a partner in a cell `apart` away within their support.
+template <int D>
+double ListReuse<D>::margin(std::size_t c, double apart) const {
+  const CellState& s = cells_[c];
+  if (apart < s.narrowest) return s.slack;  // every particle's (the common case: adjacent cells)
+  double slack = std::numeric_limits<double>::infinity();
+  for (std::uint32_t k = first_[c]; k < first_[c + 1] && ranked_[k].support > apart; ++k) slack = ranked_[k].slack;
+  return slack;
+}
+
 template <int D>
 std::size_t ListReuse<D>::bytes() const {
   return id0_.capacity() * sizeof(std::uint64_t) + pos0_.capacity() * sizeof(Vec<D>) + first_.capacity() * sizeof(std::uint32_t) +
-         cells_.capacity() * sizeof(CellState) + centres_.capacity() * sizeof(Vec<D>) +
+         cells_.capacity() * sizeof(CellState) + ranked_.capacity() * sizeof(Ranked) + centres_.capacity() * sizeof(Vec<D>) +
          centre_id_.capacity() * sizeof(std::uint64_t) + reach_.capacity() * sizeof(double) + centre_grid_.bytes() +
          close_.bytes();
 }

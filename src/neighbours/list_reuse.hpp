@@ -12,6 +12,10 @@
 //   - a pair missing from i's list was >= listed_i apart at build time, so it is now
 //     >= listed_i - (e_c + e_c' + |D_c - D_c'|) apart: beyond support_i while that bound stays
 //     below slack_i = listed_i - support_i;
+//   - the boxes of c and c' are now g apart, so only particles with support_i > g can have a
+//     partner in the other cell within their support: the bound is held against the smallest
+//     slack among those (a sparse particle's wide support reaching a dense cell is held against
+//     its own slack, not the dense particles' narrow ones, which that distance cannot concern);
 //   - cell pairs whose boxes are now >= the larger support apart hold no interacting pair at all,
 //     so only cell pairs with boxes closer than that are tested (found through a grid of the
 //     boxes' centres); no cell pair is left out however far the cells have moved.
@@ -61,12 +65,19 @@ class ListReuse {
     Vec<D> lo, hi;      // B_c
     double half_diagonal = 0;
     double slack = 0, support = 0;  // smallest slack, largest support of the cell's particles
+    double narrowest = 0;           // smallest support of the cell's particles
   };
+  struct Ranked {
+    double support = 0, slack = 0;
+  };
+  double margin(std::size_t c, double apart) const;
   bool recorded_ = false;
   std::vector<std::uint64_t> id0_;
   std::vector<Vec<D>> pos0_;
   std::vector<std::uint32_t> first_;  // occupied cells of the build's grid: their first entries in grid.sorted, + end
   std::vector<CellState> cells_;      // state of each occupied cell now
+  std::vector<Ranked> ranked_;        // per cell (slots of the build's grid): its particles' supports, widest first,
+                                      // with the smallest slack among those as wide or wider
   std::vector<Vec<D>> centres_;       // of the boxes
   std::vector<std::uint64_t> centre_id_;
   std::vector<double> reach_;
