@@ -237,6 +237,18 @@ void RateEvaluator<D>::lists_built(const Particles<D>& p, bool reusable) {
   }
 }
 
+// The stored pairs the loops read: with a list skin the lists also hold pairs within the skin,
+// which are dropped here for this evaluation (the same bits, fewer pairs: pair_lists.hpp).
+template <int D>
+const PairLists& RateEvaluator<D>::interacting_pairs(const Particles<D>& p, std::size_t active) {
+  loop_lists_ = &pairs_lists_;
+  if (!reusable(active, p.size())) return pairs_lists_;
+  ScopedPhase t(timers_, "neighbour_search");
+  keep_interacting_pairs(pairs_lists_, p.pos, p.h, interacting_);
+  loop_lists_ = &interacting_;
+  return interacting_;
+}
+
 template <int D>
 bool RateEvaluator<D>::rebuild_due() const {
   if (!reuse_.recorded()) return false;
@@ -248,6 +260,7 @@ bool RateEvaluator<D>::rebuild_due() const {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
   active = std::min(active, p.size());
+  loop_lists_ = &pairs_lists_;
   const bool rescan = storage_ == PairStorage::Rescan;
   std::size_t pair_count = 0;
   with_kernel(kernel_, [&](auto k) {
@@ -276,9 +289,10 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
           return pair_average_factor(ki, kernels[j], norm(xi - p.pos[j]));
         };
       };
-      const StoredPairsFormingFactors<decltype(factor)> pairs(pairs_lists_, factors_, factor);
+      const PairLists& lists = interacting_pairs(p, active);
+      const StoredPairsFormingFactors<decltype(factor)> pairs(lists, factors_, factor);
       pair_loops(p, pairs, [&](const auto&) { set_volumes(p, pairs.writable()); });
-      pair_count = pairs_lists_.total();
+      pair_count = lists.total();
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
@@ -325,8 +339,9 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       pair_loops(p, scanned, density);
       pair_count = scanned.pairs_found();
     } else {
-      pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
-      pair_count = pairs_lists_.total();
+      const PairLists& lists = interacting_pairs(p, active);
+      pair_loops(p, StoredPairs{lists, factors_}, density);
+      pair_count = lists.total();
     }
   });
   ++evaluations_;
@@ -378,7 +393,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
   scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
-  return {{"half_lists", pairs_lists_.bytes()},
+  return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes()},
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float)},

@@ -93,7 +93,8 @@ class RateEvaluator {
   // Adaptive h: every particle's gather list (|x_i - x_j| < 2 h_i) of the last evaluation.
   // Constant h searches each pair once (pair_lists()) and leaves these empty.
   const NeighbourLists& neighbours() const { return candidates_; }
-  const PairLists& pair_lists() const { return pairs_lists_; }  // each pair once (pair_lists.hpp)
+  // Each interacting pair once (pair_lists.hpp), as the pair loops of the last evaluation read them.
+  const PairLists& pair_lists() const { return *loop_lists_; }
   const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
   // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp).
   const std::vector<GradientSums<D>>& gradient_sums() const { return gradient_sums_; }
@@ -113,6 +114,7 @@ class RateEvaluator {
   bool lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
                          const typename ListReuse<D>::Radius& support);
   void lists_built(const Particles<D>& p, bool reusable);
+  const PairLists& interacting_pairs(const Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
   // After the lists (Stored) or the tile order (Rescan): density, stress and forces over `pairs`;
   // density(pairs) runs the density loop.
@@ -140,7 +142,10 @@ class RateEvaluator {
              std::vector<KernelAt<WendlandC4, D>>>
       kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
   PairStorage storage_ = PairStorage::Stored;
-  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only
+  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only;
+                           // with a list skin, also the pairs within it
+  PairLists interacting_;  // with a list skin: pairs_lists_ without the pairs beyond the supports now
+  const PairLists* loop_lists_ = &pairs_lists_;  // the lists the pair loops read
   std::vector<std::uint32_t> writable_prefix_;  // Rescan: writable particles before each grid slot
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)

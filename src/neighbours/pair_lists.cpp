@@ -257,6 +257,72 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
   half_lists_from<D>(gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; });
 }
 
+namespace {
+
+// The entries of `src` with keep(i, j), each list in its order; lists of all src.size() particles.
+// Kept per block of particles first (the count of a list is known only once it is filtered), then
+// joined.
+template <class Keep>
+void filter_lists(const NeighbourLists& src, NeighbourLists& out, Keep&& keep) {
+  const std::size_t n = src.size();
+  const std::size_t nblocks = (n + kBlock - 1) / kBlock;
+  out.block_index.resize(nblocks);
+  out.block_count.resize(nblocks);
+  par::for_each(nblocks, [&](std::size_t b) {
+    std::vector<std::uint32_t> idx, cnt;  // local headers, the block's memory reused (neighbour_lists.cpp)
+    idx.swap(out.block_index[b]);
+    cnt.swap(out.block_count[b]);
+    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    idx.resize(src.offsets[i1] - src.offsets[i0]);
+    cnt.resize(i1 - i0);
+    std::size_t end = 0;
+    for (std::size_t i = i0; i < i1; ++i) {  // branch-free: every entry written, the end advanced for kept ones
+      const std::size_t before = end;
+      for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
+        idx[end] = *it;
+        end += static_cast<std::size_t>(keep(i, *it));
+      }
+      cnt[i - i0] = static_cast<std::uint32_t>(end - before);
+    }
+    idx.resize(end);
+    out.block_index[b].swap(idx);
+    out.block_count[b].swap(cnt);
+  }, "neighbour_search");
+  out.offsets.resize(n + 1);
+  out.offsets[0] = 0;
+  std::vector<std::size_t> block_start(nblocks + 1, 0);
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    const std::size_t i0 = b * kBlock;
+    for (std::size_t k = 0; k < out.block_count[b].size(); ++k) out.offsets[i0 + k + 1] = out.offsets[i0 + k] + out.block_count[b][k];
+    block_start[b + 1] = out.offsets[std::min(n, i0 + kBlock)];
+  }
+  resize_snug(out.index, out.offsets[n]);
+  par::for_each(nblocks, [&](std::size_t b) {
+    std::copy(out.block_index[b].begin(), out.block_index[b].end(), out.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
+  });
+}
+
+}  // namespace
+
+template <int D>
+void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
+                            PairLists& out) {
+  out.order = listed.order;
+  out.tile_start = listed.tile_start;
+  out.tiles_by_colour = listed.tiles_by_colour;
+  out.colour_start = listed.colour_start;
+  out.writable = listed.writable;
+  out.slot = listed.slot;
+  out.tile = listed.tile;
+  out.tile_cells = listed.tile_cells;
+  const auto interacting = [&](std::size_t i, std::uint32_t j) {
+    const double reach = 2.0 * std::max(h[i], h[j]);
+    return norm2(pos[i] - pos[j]) < reach * reach;
+  };
+  filter_lists(listed.near, out.near, interacting);
+  filter_lists(listed.far, out.far, interacting);
+}
+
 void no_far_pairs(PairLists& out) {
   out.far.offsets.assign(out.near.offsets.size(), 0);
   out.far.index.clear();
@@ -266,6 +332,8 @@ template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&,
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&, TileWrites);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
 template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
+template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
+template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 
 
 }  // namespace sphdisk

@@ -156,16 +156,23 @@ TEST(ListReuse, AnotherParticleOrderIsNotTheSameParticles) {
   EXPECT_FALSE(reuse.same_particles(p.id));
 }
 
-// Every pair closer than the larger of its two supports is in the evaluator's pair lists.
-void expect_every_interacting_pair_listed(const Particles<2>& p, const PairLists& pl, int step) {
+// The pair lists the evaluator's loops read hold exactly the pairs closer than the larger of their
+// two supports, each once: none missing, and none of the skin's (pair_lists.hpp,
+// keep_interacting_pairs).
+void expect_exactly_the_interacting_pairs(const Particles<2>& p, const PairLists& pl, int step) {
   std::set<std::pair<std::uint32_t, std::uint32_t>> listed;  // read serially (for_each_pair runs on threads)
   for (const NeighbourLists* half : {&pl.near, &pl.far})
     for (std::uint32_t i = 0; i < half->size(); ++i)
       for (const std::uint32_t* j = half->begin(i); j != half->end(i); ++j) listed.insert({std::min(i, *j), std::max(i, *j)});
+  ASSERT_EQ(listed.size(), pl.total()) << "step " << step << ": a pair listed twice";
+  std::size_t interacting = 0;
   for (std::uint32_t i = 0; i < p.size(); ++i)
     for (std::uint32_t j = i + 1; j < p.size(); ++j)
-      if (norm(p.pos[i] - p.pos[j]) < 2.0 * std::max(p.h[i], p.h[j]))
+      if (norm(p.pos[i] - p.pos[j]) < 2.0 * std::max(p.h[i], p.h[j])) {
+        ++interacting;
         ASSERT_TRUE(listed.count({i, j})) << "step " << step << ": pair " << i << ", " << j << " missing";
+      }
+  EXPECT_EQ(listed.size(), interacting) << "step " << step << ": pairs beyond the supports listed";
 }
 
 // Rates from reused lists equal those of a fresh evaluation at the same positions, while the
@@ -192,7 +199,7 @@ void check_rates_with_reused_lists(Smoothing smoothing, double tolerance) {
       for (std::size_t i = 0; i < p.size(); ++i) p.pos[i] += p.vel[i] * (step == 8 ? 40.0 * dt : dt);  // step 8 jumps
     Particles<2> q = p;  // the same start values of h
     reused.evaluate(p);
-    expect_every_interacting_pair_listed(p, reused.pair_lists(), step);
+    expect_exactly_the_interacting_pairs(p, reused.pair_lists(), step);
     RateEvaluator<2> fresh(KernelType::Cubic, 0.025, phys, timers, smoothing, 50);
     fresh.evaluate(q);
     double worst = 0, scale = 0;
