@@ -5,11 +5,15 @@
 # later comparisons; outside the tree, so no tool mistakes it for project sources).
 # Prints one line per run (build, user CPU seconds, wall seconds) and per round whether the two
 # runs' diagnostics (every column but the wall time) are equal.
-# Usage: [PARTICLES=100000] [STEPS=20] [THREADS=1] [ROUNDS=4] bench/compare_builds.sh COMMIT
+# Usage: [PARTICLES=100000] [STEPS=20] [THREADS=1] [ROUNDS=4] bench/compare_builds.sh COMMIT [KEY=VALUE ...]
+#   KEY=VALUE: configuration overrides for both runs (--set), e.g. sph.list_skin=0.2
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ref=$(git rev-parse --short "$1")
 n=${PARTICLES:-100000} steps=${STEPS:-20} threads=${THREADS:-1} rounds=${ROUNDS:-4}
+shift
+sets=()
+for kv in "$@"; do sets+=(--set "$kv"); done
 base=${TMPDIR:-/tmp}/sphdisk-builds/$ref
 if [ ! -x "$base/build/sphdisk" ]; then
   [ -d "$base" ] || git worktree add --detach "$base" "$ref" > /dev/null
@@ -26,7 +30,7 @@ for round in $(seq "$rounds"); do
     dir=$out/$build
     rm -rf "$dir"
     times=$(/usr/bin/time -f "%U %e" "$exe" run configs/ring.toml -o "$dir" --set problem.particles="$n" \
-      --set run.max_steps="$steps" -t "$threads" -q 2>&1 > /dev/null | tail -1)
+      --set run.max_steps="$steps" -t "$threads" ${sets[@]+"${sets[@]}"} -q 2>&1 > /dev/null | tail -1)
     echo "$build $times"
   done
   if cmp -s <(physics "$out/$ref") <(physics "$out/current"); then echo "round $round: same diagnostics"

@@ -199,8 +199,25 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
   {
     ScopedPhase t(timers_, "neighbour_search");
     inside = par::reduce(n, 1, [&](std::size_t i) {
+      // The kept lists reach (1 + skin) 2 h: the solve first gets the candidates within the
+      // search radius of a fresh search (kSkin 2 h), about 1 / (1 + skin)^D of them, and all of them
+      // only if h grew beyond.
+      thread_local std::vector<std::uint32_t> near;
+      thread_local std::vector<double> near_d2;
       const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
-      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i]);
+      const double radius = std::min(2.0 * kSkin * p.h[i], kept_[i]);
+      near.resize(cand.size());
+      near_d2.resize(cand.size());
+      std::size_t count = 0;
+      for (const std::uint32_t j : cand) {  // branch-free append
+        const double d2 = norm2(p.pos[i] - p.pos[j]);
+        near[count] = j;
+        near_d2[count] = d2;
+        count += static_cast<std::size_t>(d2 < radius * radius);
+      }
+      SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span(near.data(), count), std::span(near_d2.data(), count),
+                                                          p.h[i], eta_, 0.5 * radius);
+      if (r.beyond_candidates && radius < kept_[i]) r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i]);
       p.h[i] = r.h;
       p.rho[i] = r.rho;
       return r.beyond_candidates ? 0 : 1;

@@ -91,13 +91,16 @@ typename ListReuse<D>::Verdict ListReuse<D>::check(const CellGrid<D>& grid, cons
   build_cell_grid(centres_, centre_id_, 0.5 * mean_reach / static_cast<double>(nc), centre_grid_);
   build_neighbour_lists(centre_grid_, centres_, reach_, close_);
 
-  // Largest bound / margin: a cell with itself (pairs inside it), then the close cell pairs.
+  // Largest bound / margin: a cell with itself (pairs inside it), then the close cell pairs, each
+  // once: from the cell with the larger support (then the pair is in its list if it matters at
+  // all), from the first of two with equal supports.
   const double used = par::reduce(nc, 0.0, [&](std::size_t c) {
     const CellState& a = cells_[c];
     if (!(a.slack > 0)) return std::numeric_limits<double>::infinity();
     double worst = 2.0 * a.spread / a.slack;
     for (const std::uint32_t* it = close_.begin(c); it != close_.end(c); ++it) {
       const CellState& b = cells_[*it];
+      if (b.support > a.support || (b.support == a.support && *it < c)) continue;
       const double apart = box_distance<D>(a.lo, a.hi, b.lo, b.hi);
       const double slack = std::min(margin(c, apart), margin(*it, apart));
       if (slack == std::numeric_limits<double>::infinity()) continue;  // no support reaches the other cell
