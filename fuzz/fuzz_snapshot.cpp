@@ -11,7 +11,14 @@
 #include "io/snapshot.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = "/tmp/sphdisk_fuzz_" + std::to_string(::getpid()) + ".hdf5";
+  // One file per process (parallel fuzzing), its name always as long (the pid zero-padded): the
+  // name's length shows in the readers' error paths, and a varying one made runs take different
+  // paths (tests/fuzz/short_fuzz_run.sh needs the same run every time).
+  static const std::string path = [] {
+    char name[64];
+    std::snprintf(name, sizeof name, "/tmp/sphdisk_fuzz_%010ld.hdf5", static_cast<long>(::getpid()));
+    return std::string(name);
+  }();
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
   std::fwrite(data, 1, size, f);
