@@ -286,24 +286,23 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       adaptive_lists<K>(p, active);
       if (rescan) {
         // No per-particle kernels kept either: each is made from h where needed (the same values).
-        const auto kernel_of = [&p](std::size_t i) { return KernelAt<K, D>(p.h[i]); };
-        const auto factor = [&kernel_of](std::uint32_t i) {
-          return [ki = kernel_of(i), &kernel_of](std::uint32_t j, double r) { return pair_average_factor(ki, kernel_of(j), r); };
+        const auto slope = [&p](std::size_t i) { return slope_of(KernelAt<K, D>(p.h[i])); };
+        const auto factor = [&slope](std::uint32_t i) {
+          return [si = slope(i), &slope](std::uint32_t j, double r) { return pair_average_factor<K>(si, slope(j), r); };
         };
         const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
         pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
         pair_count = scanned.pairs_found();
         return;
       }
-      auto& kernels = std::get<std::vector<KernelAt<K, D>>>(kernels_);
       {
         ScopedPhase t(timers_, "density");
-        bind_kernels(p, kernels);
+        bind_kernel_slopes<K>(p, slopes_);
       }
       // rho came with h; the pair factors are formed by the velocity-gradient loop on its way.
-      const auto factor = [&kernels, &p](std::uint32_t i) {
-        return [ki = kernels[i], xi = p.pos[i], &kernels, &p](std::uint32_t j) {
-          return pair_average_factor(ki, kernels[j], norm(xi - p.pos[j]));
+      const auto factor = [this, &p](std::uint32_t i) {
+        return [si = slopes_[i], xi = p.pos[i], slopes = slopes_.data(), &p](std::uint32_t j) {
+          return pair_average_factor<K>(si, slopes[j], norm(xi - p.pos[j]));
         };
       };
       const PairLists& lists = interacting_pairs(p, active);
@@ -404,9 +403,8 @@ int RateEvaluator<D>::tile_cells() const {
 
 template <int D>
 std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() const {
-  std::size_t scratch = 0, kernels = 0;
+  std::size_t scratch = 0;
   for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
-  std::apply([&kernels](const auto&... v) { ((kernels += v.capacity() * sizeof(v[0])), ...); }, kernels_);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
   scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
@@ -414,7 +412,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float)},
-          {"bound_kernels", kernels},
+          {"kernel_slopes", slopes_.capacity() * sizeof(KernelSlope)},
           {"cell_grid", grid_.bytes()},
           {"per_particle_scratch", scratch}};
 }

@@ -16,6 +16,7 @@
 #include "neighbours/list_reuse.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
+#include "physics/density.hpp"
 #include "physics/kernels.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/forces.hpp"
@@ -138,9 +139,7 @@ class RateEvaluator {
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
-  std::tuple<std::vector<KernelAt<CubicSpline, D>>, std::vector<KernelAt<WendlandC2, D>>,
-             std::vector<KernelAt<WendlandC4, D>>>
-      kernels_;  // Adaptive: each particle's bound kernel (density.hpp)
+  std::vector<KernelSlope> slopes_;  // Adaptive: each particle's kernel slope (density.hpp)
   PairStorage storage_ = PairStorage::Stored;
   PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only;
                            // with a list skin, also the pairs within it

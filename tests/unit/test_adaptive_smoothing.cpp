@@ -202,7 +202,7 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
 }
 
 // The memory report of the rate evaluator covers what it holds: at least the lists' entries and
-// offsets, one pair factor per pair, and one bound kernel per particle.
+// offsets, one pair factor per pair, and one kernel slope per particle.
 TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   auto p = test::random_particles<2>(2000, 5, false);
   for (auto& hi : p.h) hi = 0.02;
@@ -216,7 +216,7 @@ TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   EXPECT_GE(bytes["half_lists"], pairs.total() * sizeof(std::uint32_t) + 2 * (p.size() + 1) * sizeof(std::size_t));
   EXPECT_GE(bytes["pair_factors"], pairs.total() * sizeof(float));
   EXPECT_GE(bytes["candidate_lists"], gather.total() * sizeof(std::uint32_t) + (p.size() + 1) * sizeof(std::size_t));
-  EXPECT_GE(bytes["bound_kernels"], p.size() * sizeof(double));
+  EXPECT_GE(bytes["kernel_slopes"], p.size() * sizeof(KernelSlope));
   EXPECT_GE(p.bytes(), p.size() * (sizeof(Vec<2>) * 3 + sizeof(double) * 4));
 
   // Rebuilt at about the same size, the lists and factors stay snug (they used to double).
