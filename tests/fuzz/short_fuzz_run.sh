@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# A short fuzz run for CI (issue 5), as deterministic as the targets allow: builds the libFuzzer targets with clang, replays
-# every input that once crashed a parser (tests/fuzz_regressions/), then mutates the seed corpora
-# for a fixed number of runs from a fixed seed. Any crash, sanitizer report, leak of a non-UserError
-# exception or multi-line error message fails the test; the crashing input is kept under
-# build/fuzz/artifacts/ to be added to tests/fuzz_regressions/.
+# A short fuzz run for CI (issue 5), as deterministic as the targets allow: builds the libFuzzer
+# targets with clang, replays every input that once crashed a parser (tests/fuzz_regressions/), then
+# mutates the seed corpora for a fixed number of runs from a fixed seed. Any crash, sanitizer report,
+# leak of a non-UserError exception or multi-line error message fails the test; the crashing input
+# is kept under build/fuzz/artifacts/ to be added to tests/fuzz_regressions/.
 # Deterministic: a fixed seed alone is not enough. With address randomisation the first executions
 # of the same inputs already cover different edges (1738 vs 1740), and libFuzzer re-reads its corpus
 # directory every second (-reload), so two runs took different mutation paths (the CI run of
@@ -60,8 +60,8 @@ fuzz() {
 
 echo "== replaying crashers found earlier"
 for target in config:toml snapshot:hdf5; do
-  (cd "$work" && ls regressions/*."${target#*:}") > "$work/inputs.txt"
-  mapfile -t inputs < "$work/inputs.txt"
+  inputs=()
+  for f in "$work"/regressions/*."${target#*:}"; do inputs+=("regressions/${f##*/}"); done  # relative to $work
   fuzz "${target%%:*}" "$work/replay.log" "${inputs[@]}"
   echo "fuzz_${target%%:*}: $(grep -c '^Executed' "$work/replay.log") regression inputs pass"
 done
