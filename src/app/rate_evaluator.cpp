@@ -132,7 +132,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
         return wider;
       }
       p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
-      p.rho[i] = r.rho;  // at p.h[i] (beyond: at h_max = searched / 2)
+      store(p.rho[i], r.rho);  // at p.h[i] (beyond: at h_max = searched / 2)
       // Lists to be reused need their skin: where h grew during the solve so that less than half of
       // it is left, search again to the full skin.
       if (reusable && !r.beyond_candidates && searched < widest && searched < 2.0 * (1.0 + 0.5 * list_skin_) * r.h)
@@ -219,7 +219,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
                                                           p.h[i], eta_, 0.5 * radius);
       if (r.beyond_candidates && radius < kept_[i]) r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i]);
       p.h[i] = r.h;
-      p.rho[i] = r.rho;
+      store(p.rho[i], r.rho);
       return r.beyond_candidates ? 0 : 1;
     }, [](int a, int b) { return a & b; });
   }

@@ -4,6 +4,7 @@
 // kept in step with the storage by hand.
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/snug_resize.hpp"
@@ -15,7 +16,20 @@ enum FieldFlag : unsigned {
   kSnapshot = 1u << 0,    // written to every snapshot (GADGET/SWIFT dataset name given in the table)
   kCheckpoint = 1u << 1,  // needed to restart bit-for-bit
   kEnergyOnly = 1u << 2,  // only meaningful when internal energy is evolved
+  kReduced = 1u << 3,     // recomputed from the others at every evaluation and read only by the pair
+                          // loops: stored in single precision in a build with
+                          // SPHDISK_SINGLE_PRECISION_FIELDS (arithmetic and sums stay double). Not
+                          // the volume m/rho: the force loop's m_j / rho_j must equal it to double
+                          // rounding, or kinetic + internal energy would not balance exactly.
 };
+
+// Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
+#ifdef SPHDISK_SINGLE_PRECISION_FIELDS
+inline constexpr bool kSinglePrecisionFields = true;
+#else
+inline constexpr bool kSinglePrecisionFields = false;
+#endif
+using ReducedReal = std::conditional_t<kSinglePrecisionFields, float, double>;
 
 enum class FieldKind { Id, Scalar, Vector, Tensor };
 
@@ -28,10 +42,10 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(vel,   Vector, "Velocities",         kSnapshot | kCheckpoint,               1,  0, -1)     \
   X(u,     Scalar, "InternalEnergy",     kSnapshot | kCheckpoint | kEnergyOnly, 2,  0, -2)     \
   X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint,               1,  0,  0)     \
-  X(rho,   Scalar, "Density",            kSnapshot,                            -2,  1,  0)     \
+  X(rho,   Scalar, "Density",            kSnapshot | kReduced,                 -2,  1,  0)     \
   X(volume, Scalar, "Volume",            0,                                     2,  0,  0)     \
-  X(stress, Tensor, "KinematicStress",   0,                                     2,  0, -1)     \
-  X(correction, Tensor, "MomentCorrection", 0,                                   0,  0,  0)     \
+  X(stress, Tensor, "KinematicStress",   kReduced,                              2,  0, -1)     \
+  X(correction, Tensor, "MomentCorrection", kReduced,                            0,  0,  0)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)
 // clang-format on
@@ -45,6 +59,13 @@ struct FieldTypes {
   using Vector = Vec<D>;
   using Tensor = Mat<D>;
 };
+template <int D>
+struct ReducedFieldTypes {  // kReduced fields (scalars and tensors only)
+  using Scalar = ReducedReal;
+  using Tensor = Mat<D, ReducedReal>;
+};
+template <int D, unsigned Flags>
+using FieldTypesFor = std::conditional_t<(Flags & kReduced) != 0, ReducedFieldTypes<D>, FieldTypes<D>>;
 
 struct FieldInfo {
   std::string_view name;
@@ -57,7 +78,7 @@ struct FieldInfo {
 template <int D>
 struct Particles {
 #define SPHDISK_DECLARE_FIELD(name, kind, ds, flags, l, m, t) \
-  std::vector<typename FieldTypes<D>::kind> name;
+  std::vector<typename FieldTypesFor<D, (flags)>::kind> name;
   SPHDISK_PARTICLE_FIELDS(SPHDISK_DECLARE_FIELD)
 #undef SPHDISK_DECLARE_FIELD
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 namespace sphdisk {
 
@@ -42,12 +43,14 @@ constexpr double norm2(const Vec<D>& a) { return dot(a, a); }
 template <int D>
 inline double norm(const Vec<D>& a) { return std::sqrt(norm2(a)); }
 
-// Row-major D x D matrix; m(a, b) is the component alpha = a, beta = b of a tensor.
-template <int D>
+// Row-major D x D matrix; m(a, b) is the component alpha = a, beta = b of a tensor. All arithmetic
+// is on Mat<D> (double); Mat<D, float> is only a storage form (core/particles.hpp, kReduced fields),
+// converted with as_double / stored_as.
+template <int D, class T = double>
 struct Mat {
-  std::array<double, D * D> c{};
-  constexpr double& operator()(int a, int b) { return c[static_cast<std::size_t>(a * D + b)]; }
-  constexpr double operator()(int a, int b) const { return c[static_cast<std::size_t>(a * D + b)]; }
+  std::array<T, D * D> c{};
+  constexpr T& operator()(int a, int b) { return c[static_cast<std::size_t>(a * D + b)]; }
+  constexpr T operator()(int a, int b) const { return c[static_cast<std::size_t>(a * D + b)]; }
   constexpr double trace() const {
     double t = 0;
     for (int k = 0; k < D; ++k) t += (*this)(k, k);
@@ -55,6 +58,35 @@ struct Mat {
   }
   friend constexpr bool operator==(const Mat&, const Mat&) = default;
 };
+
+template <class T>
+inline constexpr bool is_mat_v = false;
+template <int D, class T>
+inline constexpr bool is_mat_v<Mat<D, T>> = true;
+
+// A stored matrix in double precision (exact: every float is a double).
+template <int D, class T>
+constexpr Mat<D> as_double(const Mat<D, T>& m) {
+  if constexpr (std::is_same_v<T, double>) {
+    return m;
+  } else {
+    Mat<D> r;
+    for (std::size_t k = 0; k < r.c.size(); ++k) r.c[k] = static_cast<double>(m.c[k]);
+    return r;
+  }
+}
+
+// Stores a double-precision result in a field's storage form (rounded to nearest when it holds
+// floats).
+template <int D, class T>
+constexpr void store(Mat<D, T>& to, const Mat<D>& m) {
+  for (std::size_t k = 0; k < to.c.size(); ++k) to.c[k] = static_cast<T>(m.c[k]);
+}
+template <class T>
+  requires std::is_floating_point_v<T>
+constexpr void store(T& to, double x) {
+  to = static_cast<T>(x);
+}
 
 // t . v with t_ab v_b (Einstein summation over b).
 template <int D>

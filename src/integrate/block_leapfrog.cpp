@@ -45,16 +45,16 @@ std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
 }
 
 // S <- R S R^T for the rotation about z that takes the direction of `from` to that of `to` (x-y
-// components; z untouched in 3D).
-template <int D>
-void turn_with_orbit(Mat<D>& S, const Vec<D>& from, const Vec<D>& to) {
+// components; z untouched in 3D). S in its storage form (core/particles.hpp), turned in double.
+template <int D, class T>
+void turn_with_orbit(Mat<D, T>& S, const Vec<D>& from, const Vec<D>& to) {
   const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
   if (!(norms > 0)) return;
   const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
   Mat<D> R = identity<D>(), Rt = identity<D>();
   R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
   Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
-  S = R * S * Rt;
+  store(S, R * as_double(S) * Rt);
 }
 
 }  // namespace

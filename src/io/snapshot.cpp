@@ -57,7 +57,9 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   h5::write_attr(g, "Omega0", 0.0);
   h5::write_attr(g, "OmegaLambda", 0.0);
   h5::write_attr(g, "HubbleParam", 1.0);
-  h5::write_attr(g, "Flag_DoublePrecision", 1LL);
+  h5::write_attr(g, "Flag_DoublePrecision", 1LL);  // the datasets: doubles in every build
+  // 1: a build with SPHDISK_SINGLE_PRECISION_FIELDS, whose Density values are floats (widened).
+  h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
   h5::write_attr(g, "Dimension", static_cast<long long>(dim));
   h5::write_attr(g, "Code", std::string("sphdisk"));
   h5::write_attr(g, "ViscousTime", meta.tau);
@@ -85,11 +87,12 @@ bool in_snapshot(const FieldInfo& info, const SnapshotMeta& meta) {
 template <class T, int D>
 constexpr std::size_t snapshot_columns() {
   if constexpr (std::is_same_v<T, Vec<D>>) return 3;  // always N x 3 (z = 0 in 2D), as GADGET readers expect
-  else if constexpr (std::is_same_v<T, Mat<D>>) return D * D;
+  else if constexpr (is_mat_v<T>) return D * D;
   else return 1;
 }
 
-// Rows order[0..n) of one field, flattened to doubles (or IDs).
+// Rows order[0..n) of one field, flattened to doubles (or IDs): snapshots hold doubles whatever the
+// storage precision (Header Flag_DoublePrecision).
 template <int D, class T>
 void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<std::size_t>& order, std::size_t first_row,
                       hid_t transfer) {
@@ -103,7 +106,7 @@ void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<s
     std::vector<double> flat(n * cols, 0.0);
     for (std::size_t k = 0; k < n; ++k) {
       const T& v = field[order[k]];
-      if constexpr (std::is_same_v<T, double>) flat[k] = v;
+      if constexpr (std::is_floating_point_v<T>) flat[k] = v;  // float fields (kReduced) widened exactly
       else if constexpr (std::is_same_v<T, Vec<D>>)
         for (int c = 0; c < D; ++c) flat[3 * k + static_cast<std::size_t>(c)] = v[c];
       else std::copy(v.c.begin(), v.c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * cols));
@@ -208,9 +211,9 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
       const double scale = std::pow(fl, info.length_exp) * std::pow(fm, info.mass_exp) * std::pow(ft, info.time_exp);
       for (double v : raw)
         if (!std::isfinite(v)) throw UserError("'" + path + "': PartType0/" + name + " contains NaN or Inf");
-      if constexpr (std::is_same_v<T, double>) {
+      if constexpr (std::is_floating_point_v<T>) {
         if (cols != 1) throw UserError("'" + path + "': PartType0/" + name + " must be 1-D");
-        for (std::size_t k = 0; k < n; ++k) field[k] = raw[k] * scale;
+        for (std::size_t k = 0; k < n; ++k) store(field[k], raw[k] * scale);
       } else if constexpr (std::is_same_v<T, Vec<D>>) {
         if (cols != 3 && cols != static_cast<std::size_t>(D))
           throw UserError("'" + path + "': PartType0/" + name + " must have 3 or " + std::to_string(D) + " columns");

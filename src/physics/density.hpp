@@ -12,6 +12,9 @@
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
 // Reads: pos, mass, h. Writes: rho, volume, pair factors (where the pairs store them).
+#include <type_traits>
+#include <vector>
+
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/pair_lists.hpp"
@@ -37,7 +40,18 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
   pairs.prepare_factors();
   const std::size_t m = pairs.writable();
   const double self_W = kern.W(0.0);
-  par::for_each(m, [&](std::size_t i) { p.rho[i] = p.mass[i] * self_W; }, "density");
+  // The sums in double: p.rho itself, or, where it is stored in single precision, a double copy
+  // stored at the end.
+  std::vector<double> wide;
+  std::vector<double>& rho = [&]() -> std::vector<double>& {
+    if constexpr (std::is_same_v<decltype(p.rho), std::vector<double>>) {
+      return p.rho;
+    } else {
+      wide.resize(p.size());
+      return wide;
+    }
+  }();
+  par::for_each(m, [&](std::size_t i) { rho[i] = p.mass[i] * self_W; }, "density");
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
     // The kernel by value: read through a reference it would be reloaded after every store to rho,
     // which may alias it.
@@ -50,10 +64,12 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
       const double r = norm(xi - p.pos[j]), w = k.W(r);
       factors[q] = static_cast<float>(k.dW_over_r(r));
       rho_i += p.mass[j] * w;
-      if (j < m) p.rho[j] += mi * w;
+      if (j < m) rho[j] += mi * w;
     }
-    if (i < m) p.rho[i] += rho_i;
+    if (i < m) rho[i] += rho_i;
   }, FactorUse::Write, "density");
+  if constexpr (!std::is_same_v<decltype(p.rho), std::vector<double>>)
+    par::for_each(m, [&](std::size_t i) { store(p.rho[i], rho[i]); }, "density");
   set_volumes(p, m);
 }
 

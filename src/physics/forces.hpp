@@ -54,16 +54,16 @@ void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsPar
   }, "forces");
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     const Vec<D> xi = p.pos[i], vi = p.vel[i];
-    const Mat<D>& Si = p.stress[i];
+    const Mat<D> Si = as_double(p.stress[i]);
     const double mi = p.mass[i], inv_rho_i = inv_rho[i], Pr_i = Pr[i];
     Vec<D> ai;
     double du_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
       Vec<D> g = (xi - p.pos[j]) * static_cast<double>(F[q]);
-      if (phys.force_correction) g = corrected_pair_gradient(p.correction[i], p.correction[j], g);
+      if (phys.force_correction) g = corrected_pair_gradient(as_double(p.correction[i]), as_double(p.correction[j]), g);
       Mat<D> X;
-      const Mat<D>& Sj = p.stress[j];
+      const Mat<D> Sj = as_double(p.stress[j]);
       for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * inv_rho[j] + Sj.c[c] * inv_rho_i;
       Vec<D> f = contract(X, g);
       const double mj = p.mass[j];

@@ -139,14 +139,17 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
   sum_gradients(p, pairs, sums);
   par::for_each(pairs.writable(), [&](std::size_t i) {
     const GradientSums<D>& g = sums[i];
-    p.stress[i] = kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys);
+    store(p.stress[i], kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys));
+    // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
+    // so that kinetic + internal energy stay exactly conserved.
+    const Mat<D> S = as_double(p.stress[i]);
     if (phys.force_correction) {
-      p.correction[i] = correction_from_moments(g.M);
-      p.du_dt[i] = 0.5 * double_dot(p.stress[i], g.V * p.correction[i]);  // C symmetric: V C_i^T = V C_i
+      store(p.correction[i], correction_from_moments(g.M));
+      p.du_dt[i] = 0.5 * double_dot(S, g.V * as_double(p.correction[i]));  // C symmetric: V C_i^T = V C_i
     } else {
       // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
       // energy stay exactly conserved whichever gradient sets the stress.
-      p.du_dt[i] = double_dot(p.stress[i], g.V);
+      p.du_dt[i] = double_dot(S, g.V);
     }
   }, "velocity_gradient");
 }
@@ -161,10 +164,10 @@ void add_force_corrected_heating(Particles<D>& p, const Pairs& pairs, std::vecto
   };
   sum_velocity_pair_terms(p, pairs, H, [](const Vec<D>& dv, const Vec<D>& dx) { return Shared{dv, dx}; },
                           [&p](Mat<D>& h, double w, const Shared& s, std::uint32_t other) {
-                            add_neighbour_corrected_terms(h, p.correction[other], w, s.dv, s.dx);
+                            add_neighbour_corrected_terms(h, as_double(p.correction[other]), w, s.dv, s.dx);
                           });
   const std::size_t m = pairs.writable();
-  par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(p.stress[i], H[i]); }, "velocity_gradient");
+  par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(as_double(p.stress[i]), H[i]); }, "velocity_gradient");
 }
 
 }  // namespace sphdisk

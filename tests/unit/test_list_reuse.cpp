@@ -4,6 +4,7 @@
 // lists equal those from fresh lists.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
@@ -206,7 +207,9 @@ void check_rates_with_reused_lists(Smoothing smoothing, double tolerance) {
     for (std::size_t i = 0; i < p.size(); ++i) scale = std::max(scale, norm(q.acc[i]));
     for (std::size_t i = 0; i < p.size(); ++i) {
       ASSERT_NEAR(p.h[i], q.h[i], tolerance * q.h[i]) << "step " << step << " particle " << i;
-      ASSERT_NEAR(p.rho[i], q.rho[i], tolerance * q.rho[i]) << "step " << step << " particle " << i;
+      // rho as stored: with single-precision fields the two roundings may be one unit apart
+      const double stored = std::numeric_limits<ReducedReal>::epsilon();
+      ASSERT_NEAR(p.rho[i], q.rho[i], (tolerance + stored) * q.rho[i]) << "step " << step << " particle " << i;
       worst = std::max(worst, norm(p.acc[i] - q.acc[i]));
     }
     EXPECT_LT(worst, 100 * tolerance * scale) << "step " << step;
