@@ -86,6 +86,7 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::Handle g = h5::create_group(file, "Checkpoint");
     h5::write_attr(g, "FormatVersion", kFormatVersion);
     h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
+    h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
     h5::write_attr(g, "Time", s.time);
     h5::write_attr(g, "Step", s.step);
     h5::write_attr(g, "NextOutput", s.next_output);
@@ -132,6 +133,13 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   if ((version != 1 && version != static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   out.version = static_cast<long long>(version);
+  // A run continues bit for bit only in a build of the same field precision (core/particles.hpp);
+  // checkpoints without the attribute come from before the option, all double.
+  const bool single = h5::exists_attr(g, "SinglePrecisionFields") && num("SinglePrecisionFields") != 0;
+  if (single != kSinglePrecisionFields)
+    throw UserError("'" + path + "' was written by a build " + (single ? "with" : "without") +
+                    " single-precision fields; resume it with that build (" +
+                    (single ? "cmake --preset single: build/single/sphdisk" : "cmake --preset release: build/release/sphdisk") + ")");
   auto count = [&](const char* name) {  // a non-negative integer stored as a number
     const double v = num(name);
     if (!(v >= 0 && v <= 9.0e15 && v == std::floor(v)))

@@ -88,6 +88,11 @@ bool exists(hid_t parent, const std::string& name) {
   return H5Lexists(parent, name.c_str(), H5P_DEFAULT) > 0;
 }
 
+bool exists_attr(hid_t obj, const std::string& name) {
+  silence_errors();
+  return H5Aexists(obj, name.c_str()) > 0;
+}
+
 Handle open_group(hid_t parent, const std::string& name, const std::string& file) {
   if (!exists(parent, name)) fail("'" + file + "' has no group '" + name + "': not a snapshot in the sphdisk/GADGET layout");
   Handle g(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose);

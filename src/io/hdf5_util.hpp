@@ -52,6 +52,7 @@ Handle open_file_readonly(const std::string& path);  // throws UserError naming 
 Handle create_group(hid_t parent, const std::string& name);
 Handle open_group(hid_t parent, const std::string& name, const std::string& file);  // throws if missing
 bool exists(hid_t parent, const std::string& name);
+bool exists_attr(hid_t obj, const std::string& name);
 
 void write_attr(hid_t obj, const std::string& name, double v);
 void write_attr(hid_t obj, const std::string& name, long long v);

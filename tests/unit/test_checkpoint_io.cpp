@@ -146,3 +146,32 @@ TEST(Checkpoint, FormatOneFilesAreStillReadAndChecked) {
   overwrite_mass_row(path, 10, 2.0 * p.mass[10]);
   EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
 }
+
+// A checkpoint continues bit for bit only in a build of its field precision: another build's
+// checkpoint is refused with the build to use; one without the attribute (before the option) is
+// a double build's.
+TEST(Checkpoint, RefusesAnotherFieldPrecision) {
+  const Particles<2> p = sample_particles();
+  const fs::path path = temp_file("precision.h5");
+  write_checkpoint(path.string(), p, sample_state());
+  RunState r;
+  EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+    h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 0LL : 1LL);
+  }
+  try {
+    read_checkpoint(path.string(), r);
+    ADD_FAILURE() << "a checkpoint of the other field precision was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("single-precision fields; resume it with that build"), std::string::npos) << e.what();
+  }
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+    ASSERT_GE(H5Adelete(g, "SinglePrecisionFields"), 0);
+  }
+  if (kSinglePrecisionFields) EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  else EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+}

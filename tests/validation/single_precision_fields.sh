@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The build with SPHDISK_SINGLE_PRECISION_FIELDS (preset "single": density and the stress and
 # moment-correction tensors stored as float, all sums in double): its unit tests pass, its
-# results do not depend on the thread count, its stored densities are in fact single precision, and
-# a short ring run stays within single-precision rounding of the default (double) build's.
-# With MPIEXEC, the single build also passes rank_identity.sh (same bits for any rank count).
+# results do not depend on the thread count, its stored densities are in fact single precision,
+# a short ring run stays within single-precision rounding of the default (double) build's, and it
+# passes kill_resume.sh and, with MPIEXEC, rank_identity.sh (same bits for any rank count).
 # Usage: single_precision_fields.sh PATH/TO/DOUBLE/sphdisk [MPIEXEC]   (builds build/single)
 set -euo pipefail
 double_exe=$(realpath "$1")
@@ -56,6 +56,9 @@ with h5py.File(f"{double_dir}/snapshot_002.hdf5") as fd, h5py.File(f"{single_dir
     ok &= dx < 1e-7 and dv < 1e-8 and drho < 1e-6
 sys.exit(0 if ok else 1)
 PY
+# Killed and resumed runs continue bit for bit in this build too.
+if out=$(tests/validation/kill_resume.sh "$single_exe" 2>&1); then echo "single build: $(echo "$out" | tail -1)"
+else echo "$out"; echo "single build: kill and resume FAILED"; fail=1; fi
 if [ -n "$mpiexec" ]; then
   if out=$(tests/validation/rank_identity.sh "$single_exe" "$mpiexec" 2>&1); then echo "single build: $(echo "$out" | tail -1)"
   else echo "$out"; echo "single build: rank identity FAILED"; fail=1; fi
