@@ -299,14 +299,25 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
         ScopedPhase t(timers_, "density");
         bind_kernel_slopes<K>(p, slopes_);
       }
-      // rho came with h; the pair factors are formed by the velocity-gradient loop on its way.
-      const auto factor = [this, &p](std::uint32_t i) {
-        return [si = slopes_[i], xi = p.pos[i], slopes = slopes_.data(), &p](std::uint32_t j) {
-          return pair_average_factor<K>(si, slopes[j], norm(xi - p.pos[j]));
-        };
+      // rho came with h; the pair factors are formed by the velocity-gradient loop on its way, a
+      // list at a time: the partners' distances and slopes gathered first, so that the loop of
+      // square roots, kernel slopes and divisions runs on contiguous data and vectorises.
+      const auto form = [this, &p](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
+        thread_local std::vector<double> r2;
+        thread_local std::vector<KernelSlope> sj;
+        r2.resize(js.size());
+        sj.resize(js.size());
+        const Vec<D> xi = p.pos[i];
+        for (std::size_t q = 0; q < js.size(); ++q) {
+          r2[q] = norm2(xi - p.pos[js[q]]);
+          sj[q] = slopes_[js[q]];
+        }
+        const KernelSlope si = slopes_[i];
+        for (std::size_t q = 0; q < js.size(); ++q)
+          factors[q] = static_cast<float>(pair_average_factor<K>(si, sj[q], std::sqrt(r2[q])));
       };
       const PairLists& lists = interacting_pairs(p, active);
-      const StoredPairsFormingFactors<decltype(factor)> pairs(lists, factors_, factor);
+      const StoredPairsFormingFactors<decltype(form)> pairs(lists, factors_, form);
       pair_loops(p, pairs, [&](const auto&) { set_volumes(p, pairs.writable()); });
       pair_count = lists.total();
       return;

@@ -140,16 +140,16 @@ struct StoredPairs {
 
 // Stored half lists whose factors the first loop that reads them forms on its way (each list's
 // factors just before the loop's terms of that list, while its partners are in cache), so that no
-// pass over the pairs is spent on the factors alone. factor_of(i) -> a function j -> factor of the
-// pair (i, j). The factors are sized on construction.
-template <class FactorOf>
+// pass over the pairs is spent on the factors alone. form(i, js, factors) writes the factors of
+// the pairs (i, js[q]). The factors are sized on construction.
+template <class Form>
 struct StoredPairsFormingFactors {
   StoredPairs stored;
-  FactorOf factor_of;
+  Form form;
   mutable bool formed = false;
 
-  StoredPairsFormingFactors(const PairLists& lists, std::vector<float>& factors, FactorOf factor_of_)
-      : stored{lists, factors}, factor_of(factor_of_) {
+  StoredPairsFormingFactors(const PairLists& lists, std::vector<float>& factors, Form form_)
+      : stored{lists, factors}, form(form_) {
     stored.prepare_factors();
   }
   std::size_t writable() const { return stored.writable(); }
@@ -162,8 +162,7 @@ struct StoredPairsFormingFactors {
       return;
     }
     stored.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
-      const auto factor = factor_of(i);
-      for (std::size_t q = 0; q < js.size(); ++q) factors[q] = static_cast<float>(factor(js[q]));
+      form(i, js, factors);
       f(i, js, factors);
     }, use, trace_label);
     formed = true;

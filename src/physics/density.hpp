@@ -85,10 +85,11 @@ KernelSlope slope_of(const KernelAt<K, D>& k) {
 }
 
 // The kernel-gradient factor of a pair with variable h: (dW_i/dr + dW_j/dr) / (2 r), one division;
-// w'(0) = 0, so coincident particles get 0.
+// w'(0) = 0, so coincident particles get 0 (divided by 2 instead of 0: no branch, so that the loops
+// forming a list's factors vectorise).
 template <class K>
 double pair_average_factor(const KernelSlope& si, const KernelSlope& sj, double r) {
-  return r > 0 ? (si.dw_norm * K::dw(r * si.inv_h) + sj.dw_norm * K::dw(r * sj.inv_h)) / (2.0 * r) : 0.0;
+  return (si.dw_norm * K::dw(r * si.inv_h) + sj.dw_norm * K::dw(r * sj.inv_h)) / (2.0 * (r > 0 ? r : 1.0));
 }
 
 // Each particle's kernel slope at its smoothing length p.h.
