@@ -119,9 +119,10 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     search_radius_.resize(active);
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
+    const double uniform_mass = uniform_mass_of(p);  // ghosts included
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {
-      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched);
+      const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched, uniform_mass);
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
         const double wider = 2.0 * std::max(kSkin, skin) * r.h;
@@ -195,6 +196,7 @@ template <class K>
 bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
   const std::size_t n = p.size();
   h_start_ = p.h;
+  const double uniform_mass = uniform_mass_of(p);
   int inside;
   {
     ScopedPhase t(timers_, "neighbour_search");
@@ -216,8 +218,9 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
         count += static_cast<std::size_t>(d2 < radius * radius);
       }
       SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span(near.data(), count), std::span(near_d2.data(), count),
-                                                          p.h[i], eta_, 0.5 * radius);
-      if (r.beyond_candidates && radius < kept_[i]) r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i]);
+                                                          p.h[i], eta_, 0.5 * radius, uniform_mass);
+      if (r.beyond_candidates && radius < kept_[i])
+        r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i], uniform_mass);
       p.h[i] = r.h;
       store(p.rho[i], r.rho);
       return r.beyond_candidates ? 0 : 1;

@@ -90,9 +90,13 @@ TEST(InteractionPairs, EqualBruteForceWithVariableH3D) {
 
 // Each solved h_i satisfies h_i = eta (m_i / rho_i)^(1/D) with rho_i summed by brute force, also
 // for particles far from the start value (clustered set, one h0 for all).
+// unequal: masses spread over a factor 3 (the solve then gathers them; equal ones it fills in).
 template <int D>
-void check_solved_smoothing_lengths(double neighbours, double h0) {
+void check_solved_smoothing_lengths(double neighbours, double h0, bool unequal = false) {
   auto p = test::random_particles<D>(1500, 9, true);
+  if (unequal)
+    for (std::size_t i = 0; i < p.size(); ++i) p.mass[i] *= 0.5 + static_cast<double>(i % 7) / 4.0;
+  ASSERT_EQ(uniform_mass_of(p) > 0, !unequal);
   evaluate_adaptive(p, h0, neighbours, viscous_no_gravity(0.0));
   const double eta = eta_for_neighbours<D>(neighbours);
   double worst = 0, h_min = 1e300, h_max = 0;
@@ -111,6 +115,25 @@ void check_solved_smoothing_lengths(double neighbours, double h0) {
 
 TEST(SmoothingLength, SolvesTheDensityEquation2D) { check_solved_smoothing_lengths<2>(50, 0.02); }
 TEST(SmoothingLength, SolvesTheDensityEquation3D) { check_solved_smoothing_lengths<3>(57, 0.1); }
+TEST(SmoothingLength, SolvesTheDensityEquationWithUnequalMasses2D) { check_solved_smoothing_lengths<2>(50, 0.02, true); }
+
+// Equal masses filled in give the bits of the gathered ones.
+TEST(SmoothingLength, FilledEqualMassesGiveTheGatheredResult) {
+  const auto p = test::random_particles<2>(600, 4, true);
+  const double m = uniform_mass_of(p);
+  ASSERT_GT(m, 0.0);
+  const double eta = eta_for_neighbours<2>(50);
+  for (std::size_t i = 0; i < p.size(); i += 7) {
+    std::vector<std::uint32_t> cand;
+    for (std::uint32_t j = 0; j < p.size(); ++j)
+      if (j != i && norm(p.pos[i] - p.pos[j]) < 0.2) cand.push_back(j);
+    const auto filled = smoothing_length_at<CubicSpline, 2>(i, p, cand, {}, 0.03, eta, 0.1, m);
+    const auto gathered = smoothing_length_at<CubicSpline, 2>(i, p, cand, {}, 0.03, eta, 0.1, 0.0);
+    ASSERT_EQ(filled.h, gathered.h) << i;
+    ASSERT_EQ(filled.rho, gathered.rho) << i;
+    ASSERT_EQ(filled.beyond_candidates, gathered.beyond_candidates) << i;
+  }
+}
 
 // On a lattice the summation density is exact to ~1% for h >~ 1.3 dx, so h solves to eta dx.
 TEST(SmoothingLength, EtaTimesSpacingOnALattice) {
