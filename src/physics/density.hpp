@@ -12,6 +12,7 @@
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
 // Reads: pos, mass, h. Writes: rho, volume, pair factors (where the pairs store them).
+#include <cmath>
 #include <type_traits>
 #include <vector>
 
@@ -58,13 +59,22 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
     const KernelAt<K, D> k = kern;
     const Vec<D> xi = p.pos[i];
     const double mi = p.mass[i];
+    // In three loops: the partners' squared distances gathered, then the square roots, kernel
+    // values and factors on contiguous data (a loop GCC vectorises), then the sums in list order.
+    thread_local std::vector<double> r2, w;
+    r2.resize(js.size());
+    w.resize(js.size());
+    for (std::size_t q = 0; q < js.size(); ++q) r2[q] = norm2(xi - p.pos[js[q]]);
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const double r = std::sqrt(r2[q]);
+      w[q] = k.W(r);
+      factors[q] = static_cast<float>(k.dW_over_r(r));
+    }
     double rho_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
-      const double r = norm(xi - p.pos[j]), w = k.W(r);
-      factors[q] = static_cast<float>(k.dW_over_r(r));
-      rho_i += p.mass[j] * w;
-      if (j < m) rho[j] += mi * w;
+      rho_i += p.mass[j] * w[q];
+      if (j < m) rho[j] += mi * w[q];
     }
     if (i < m) rho[i] += rho_i;
   }, FactorUse::Write, "density");
