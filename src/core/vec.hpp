@@ -45,7 +45,7 @@ inline double norm(const Vec<D>& a) { return std::sqrt(norm2(a)); }
 
 // Row-major D x D matrix; m(a, b) is the component alpha = a, beta = b of a tensor. All arithmetic
 // is on Mat<D> (double); Mat<D, float> is only a storage form (core/particles.hpp, kReduced fields),
-// converted with as_double / stored_as.
+// converted with as_double / store.
 template <int D, class T = double>
 struct Mat {
   std::array<T, D * D> c{};
