@@ -10,6 +10,7 @@
 #include "app/ring_analysis.hpp"
 #include "app/simulation.hpp"
 #include "app/sweep.hpp"
+#include "core/build_info.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
@@ -72,6 +73,8 @@ int cmd_report(const std::string& dir) {
 
 int main(int argc, char** argv) {
   CLI::App app{"sphdisk: parallel SPH for viscous accretion discs"};
+  app.set_version_flag("--version", "sphdisk " + std::string(sphdisk::code_version()) + "\nbuild: " + sphdisk::build_options(),
+                       "print the code version and build options, then exit");
   app.require_subcommand(1);
 
   std::string config_path, output_dir, trace_file, snapshot, json_path, run_dir;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/build_info.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_util.hpp"
@@ -87,6 +88,7 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::write_attr(g, "FormatVersion", kFormatVersion);
     h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
     h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
+    h5::write_attr(g, "CodeVersion", std::string(code_version()));  // for the record; not checked on resume
     h5::write_attr(g, "Time", s.time);
     h5::write_attr(g, "Step", s.step);
     h5::write_attr(g, "NextOutput", s.next_output);

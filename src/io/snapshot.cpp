@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/build_info.hpp"
 #include "core/error.hpp"
 #include "core/toml.hpp"
 #include "io/atomic_file.hpp"
@@ -62,6 +63,8 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
   h5::write_attr(g, "Dimension", static_cast<long long>(dim));
   h5::write_attr(g, "Code", std::string("sphdisk"));
+  h5::write_attr(g, "CodeVersion", std::string(code_version()));
+  h5::write_attr(g, "BuildOptions", build_options());
   h5::write_attr(g, "ViscousTime", meta.tau);
   h5::write_attr(g, "KinematicViscosity", meta.viscosity);
   h5::write_attr(g, "RingRadius", meta.ring_radius);

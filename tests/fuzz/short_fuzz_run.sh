@@ -13,7 +13,8 @@
 # features and corpus in every run and in two checkouts at different paths (cov 2458 ft 9144 corp
 # 367, 2026-11-30). The snapshot run reads each input in a forked child (io/hdf5_util.cpp), whose
 # fate under memory limits can depend on the machine's state: of six runs, five ended with cov 818
-# ft 1341 and one with 821 / 1299. Where the system refuses to turn randomisation off (some
+# ft 1341 and one with 821 / 1299 (since the writers record the code version, session 12: 823 /
+# 1277 in two runs out of two). Where the system refuses to turn randomisation off (some
 # container seccomp profiles), the run goes on without it and says so.
 #   usage: short_fuzz_run.sh SOURCE_DIR [CONFIG_RUNS] [SNAPSHOT_RUNS]
 set -euo pipefail
