@@ -1,6 +1,7 @@
 #include "app/rate_evaluator.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -77,6 +78,13 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   constexpr double kHaloMargin = 1.25;
   const std::size_t owned = p.size();
   const bool reusable = this->reusable(active, owned);
+  // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
+  for (std::size_t i = 0; i < active; ++i) {
+    const double h = p.h[i];
+    p.h[i] = predicted_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
+    remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
+  }
+  smoothing_length_solves_ += active;
   if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
   if (reusable) kept_.resize(owned);
@@ -120,9 +128,11 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
     const double uniform_mass = uniform_mass_of(p);  // ghosts included
+    std::atomic<std::size_t> sums{0};
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched, uniform_mass);
+      sums.fetch_add(static_cast<std::size_t>(r.sums), std::memory_order_relaxed);
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
         const double wider = 2.0 * std::max(kSkin, skin) * r.h;
@@ -147,6 +157,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
       else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active);
     }
+    smoothing_length_sums_ += sums.load();
     if (!domain_) break;
     bool again = false;
     for (std::size_t i = 0; i < owned; ++i) {
@@ -198,6 +209,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
   h_start_ = p.h;
   const double uniform_mass = uniform_mass_of(p);
   int inside;
+  std::atomic<std::size_t> sums{0};
   {
     ScopedPhase t(timers_, "neighbour_search");
     inside = par::reduce(n, 1, [&](std::size_t i) {
@@ -219,13 +231,18 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
       }
       SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span(near.data(), count), std::span(near_d2.data(), count),
                                                           p.h[i], eta_, 0.5 * radius, uniform_mass);
-      if (r.beyond_candidates && radius < kept_[i])
+      std::size_t taken = static_cast<std::size_t>(r.sums);
+      if (r.beyond_candidates && radius < kept_[i]) {
         r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i], uniform_mass);
+        taken += static_cast<std::size_t>(r.sums);
+      }
+      sums.fetch_add(taken, std::memory_order_relaxed);
       p.h[i] = r.h;
       store(p.rho[i], r.rho);
       return r.beyond_candidates ? 0 : 1;
     }, [](int a, int b) { return a & b; });
   }
+  smoothing_length_sums_ += sums.load();
   if (inside && lists_still_valid(p, [this](std::size_t i) { return kept_[i]; },
                                   [&p](std::size_t i) { return 2.0 * p.h[i]; }))
     return true;

@@ -103,6 +103,10 @@ class RateEvaluator {
   std::size_t pair_interactions() const { return pairs_; }  // pairs evaluated (each once per pair loop), summed over evaluations
   std::size_t particle_updates() const { return updates_; }  // particles given new rates, summed over evaluations
   std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
+  // Adaptive h: particles that solved for h, and the density sums their solves took (one per
+  // Newton iterate, a repeated wider search included), summed over evaluations.
+  std::size_t smoothing_length_solves() const { return smoothing_length_solves_; }
+  std::size_t smoothing_length_sums() const { return smoothing_length_sums_; }
   // Memory held between evaluations, by part (bytes; capacities, scratch included): what the
   // bytes-per-particle figure of a run is made of.
   std::vector<std::pair<std::string, std::size_t>> memory() const;
@@ -156,6 +160,8 @@ class RateEvaluator {
   std::size_t pairs_ = 0;
   std::size_t updates_ = 0;
   std::size_t halo_widenings_ = 0;
+  std::size_t smoothing_length_solves_ = 0;
+  std::size_t smoothing_length_sums_ = 0;
   double list_skin_ = 0;
   ListReuse<D> reuse_;
   std::vector<double> kept_;     // Adaptive: each particle's gather-list radius (listed radius)

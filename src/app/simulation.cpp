@@ -363,6 +363,8 @@ class Runner {
        << ", \"rate_evaluations\": " << rates_.evaluations() << ", \"list_builds\": " << rates_.list_builds()
        << ", \"particle_updates\": " << rates_.particle_updates()
        << ", \"pair_interactions\": " << rates_.pair_interactions()
+       << ", \"smoothing_length_solves\": " << rates_.smoothing_length_solves()
+       << ", \"smoothing_length_sums\": " << rates_.smoothing_length_sums()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
     os << "}"

@@ -47,8 +47,13 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(stress, Tensor, "KinematicStress",   kReduced,                              2,  0, -1)     \
   X(correction, Tensor, "MomentCorrection", kReduced,                            0,  0,  0)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
-  X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)
+  X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
+  X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
+  X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)
 // clang-format on
+// h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
+// solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
+// resumed run starts its solves where the uninterrupted one would.
 // Density is the surface density in 2D (mass / length^2); in 3D its length exponent is -3 (see
 // field_length_exponent below).
 

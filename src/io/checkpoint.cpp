@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 #include "core/build_info.hpp"
 #include "core/error.hpp"
@@ -17,7 +18,11 @@ namespace {
 constexpr int kDim = 2;
 // Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; still read.
 // Format 2: the row-sum checksum below, which ranks can compute on their own rows.
-constexpr long long kFormatVersion = 2;
+// Format 2: per-row checksums; format 3 adds the smoothing-length history (h_prev, h_prev2), which
+// earlier files lack: their particles start without one, as new particles do.
+constexpr long long kFormatVersion = 3;
+
+bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
 // FNV-1a, 64 bit: cheap and order-sensitive, enough to detect corruption (not tampering).
 struct Checksum {
@@ -132,7 +137,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
   ReadShare out;
   const double version = num("FormatVersion");  // compared as stored: a corrupt value may be NaN
-  if ((version != 1 && version != static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
+  if ((version != 1 && version != 2 && version != static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   out.version = static_cast<long long>(version);
   // A run continues bit for bit only in a build of the same field precision (core/particles.hpp);
@@ -176,6 +181,10 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   for_each_checkpoint_field(p, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     const std::string name(info.name);
+    if (out.version < 3 && added_in_format3(name) && !h5::exists(parts, name)) {
+      field.assign(rows_read, {});  // no history
+      return;
+    }
     std::size_t rows = 0, cols = 1;
     if constexpr (std::is_same_v<T, std::uint64_t>) {
       field = h5::read_dataset_u64(parts, name, path, rows, read);

@@ -48,7 +48,31 @@ struct SmoothingLengthResult {
   double h;
   double rho;              // sum_j m_j W(r_ij, h), self term included (beyond the candidates: at h_max)
   bool beyond_candidates;  // the solution needs neighbours beyond the candidate radius: h is a new start value
+  int sums;                // density sums over the candidates it took (one per Newton iterate)
 };
+
+// The start value of a particle's next solve. GADGET and SWIFT drift h between solves with
+// dh/dt = -(h/D) div v; here h is extrapolated from the particle's last three solutions instead
+// (quadratic at equal intervals: exact while h changes quadratically in time), which needs neither
+// the time step nor div v. On the 100k ring the first Newton step from the previous h alone was
+// 1e-3 to 1e-2 of h, above the solve's 1e-4 tolerance, so nearly every solve took two density sums;
+// from the extrapolated start, one (docs/performance.md). The start only sets where Newton begins:
+// the solution is the same to ~(1e-4)^2 relative. Where intervals differ (a particle changing its
+// time bin, Runge-Kutta stages) the extrapolation is poorer, hence limited to 5% of h.
+// History (Particles::h_prev, h_prev2, zero in new particles): h_prev > 0 is the solution before h,
+// h_prev < 0 says h is a solution with none before it, h_prev = 0 that h is an initial guess;
+// h_prev2 > 0 is the solution before h_prev.
+inline double predicted_smoothing_length(double h, double h_prev, double h_prev2) {
+  if (!(h_prev > 0)) return h;
+  const double extrapolated = h_prev2 > 0 ? 3.0 * h - 3.0 * h_prev + h_prev2 : 2.0 * h - h_prev;
+  return std::clamp(extrapolated, h / 1.05, 1.05 * h);
+}
+
+// Shifts the history when a solve replaces h (the value before the solve).
+inline void remember_smoothing_length(double h, double& h_prev, double& h_prev2) {
+  h_prev2 = h_prev > 0 ? h_prev : 0.0;
+  h_prev = h_prev == 0 ? -1.0 : h;
+}
 
 // Solves for h_i from h_start with candidates (every j within 2 h_max of x_i). tolerance: on the
 // relative Newton step (Phantom uses 1e-4). The step that falls below it is still taken; the unit
@@ -109,17 +133,20 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
     const double f = rho - rho_h, df = drho + D * rho_h / h;
     (f < 0 ? lo : hi) = h;
     double next = df > 0 ? h - f / df : -1.0;
-    if (!(next > lo && next < hi)) next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * h;
+    // Newton leaving the bracket falls back to bisection (doubling while no upper bound is known).
+    // The bracket is closed: from a start at the root to round-off, f / df is below h's last digit
+    // and the step returns h itself, which is the bound just set.
+    if (!(next >= lo && next <= hi && next > 0)) next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * h;
     if (next > h_max) {
       // Newton may overshoot: only f(h_max) < 0 proves the root lies beyond the candidates.
-      if (h >= h_max) return {2.0 * h_max, rho, true};
+      if (h >= h_max) return {2.0 * h_max, rho, true, iter + 1};
       next = h_max;
     }
     // The step is taken, and rho follows it to first order: off from the sum at the new h by
     // ~ (D (D + 1) / 2) (step / h)^2 relative, ~1e-7 at most for steps below 1e-4 (the unit tests compare
     // with brute-force sums: at most 2e-8 in 2D, 1e-7 in 3D).
-    if (std::abs(next - h) <= tolerance * h) return {next, rho + drho * (next - h), false};
-    if (iter == 99) return {h, rho, false};  // a safeguard only: Newton with bisection converges in a few steps
+    if (std::abs(next - h) <= tolerance * h) return {next, rho + drho * (next - h), false, iter + 1};
+    if (iter == 99) return {h, rho, false, iter + 1};  // a safeguard only: Newton with bisection converges in a few steps
     h = next;
   }
 }

@@ -205,6 +205,82 @@ TEST(SmoothingLength, ConservationAndLinearExactnessWithVariableH) {
   EXPECT_LT(worst_stress, 1e-6 * omega);
 }
 
+// The start values extrapolated from the last solutions (smoothing_length.hpp): none from an
+// initial guess or from a single solution, then linear, then quadratic (exact while h is quadratic
+// in the evaluation count), limited to 5% of h.
+TEST(SmoothingLength, StartValuesFollowTheSolutionHistory) {
+  const auto solution = [](int n) { return 0.02 * (1.0 + 0.01 * n + 0.001 * n * n); };
+  double h = 0.5, h_prev = 0, h_prev2 = 0;  // an initial guess, no history (a new particle)
+  std::vector<double> starts;
+  for (int n = 1; n <= 5; ++n) {
+    starts.push_back(predicted_smoothing_length(h, h_prev, h_prev2));
+    remember_smoothing_length(h, h_prev, h_prev2);
+    h = solution(n);  // what the solve returned
+  }
+  EXPECT_EQ(starts[0], 0.5);
+  EXPECT_EQ(starts[1], solution(1));
+  EXPECT_NEAR(starts[2], 2.0 * solution(2) - solution(1), 1e-15);
+  EXPECT_NEAR(starts[3], solution(4), 1e-15);
+  EXPECT_NEAR(starts[4], solution(5), 1e-15);
+  EXPECT_EQ(predicted_smoothing_length(1.0, 0.5, 0.25), 1.05);
+  EXPECT_EQ(predicted_smoothing_length(1.0, 2.0, 0.0), 1.0 / 1.05);
+}
+
+// A solution is a fixed point: particles at rest evaluated again keep their h, each solve taking
+// one density sum. (The Newton step from the root is below h's last digit; the solver once took
+// that for a step out of its bracket and bisected, leaving h up to 1e-4 off.)
+TEST(SmoothingLength, SolutionsAreFixedPoints) {
+  auto p = test::random_particles<2>(2000, 22, true);
+  std::fill(p.h.begin(), p.h.end(), 0.02);
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
+  rates.evaluate(p);
+  std::vector<double> solved;
+  for (int n = 2; n <= 4; ++n) {
+    const std::size_t sums = rates.smoothing_length_sums();
+    rates.evaluate(p);
+    EXPECT_EQ(rates.smoothing_length_sums() - sums, p.size()) << "evaluation " << n;
+    if (n == 2) solved = p.h;  // the first solve stopped within ~1e-8 of the root, this one at it
+  }
+  double worst = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) worst = std::max(worst, std::abs(p.h[i] / solved[i] - 1.0));
+  EXPECT_LT(worst, 1e-12);
+}
+
+// In a homologous expansion (v = a x: every distance, so every solution h, grows as 1 + a t) the
+// extrapolated start is the solution to round-off: once the history holds two solutions each solve
+// takes one density sum, where the previous h as the start took about two; and the solutions are
+// those of solves started from the previous h.
+TEST(SmoothingLength, ExtrapolatedStartsSolveInOneSum) {
+  auto p = test::random_particles<2>(2000, 21, true);
+  std::fill(p.h.begin(), p.h.end(), 0.02);
+  const std::vector<Vec<2>> start = p.pos;
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
+  std::vector<double> sums_per_solve;
+  Particles<2> before_last;
+  for (int n = 0; n < 7; ++n) {
+    for (std::size_t i = 0; i < p.size(); ++i) p.pos[i] = start[i] * (1.0 + 0.004 * n);  // h grows 0.4% per evaluation
+    if (n == 6) before_last = p;
+    const std::size_t solves = rates.smoothing_length_solves(), sums = rates.smoothing_length_sums();
+    rates.evaluate(p);
+    ASSERT_EQ(rates.smoothing_length_solves() - solves, p.size());
+    sums_per_solve.push_back(static_cast<double>(rates.smoothing_length_sums() - sums) / static_cast<double>(p.size()));
+  }
+  EXPECT_GT(sums_per_solve[1], 1.5);  // from the previous solution
+  for (int n = 3; n < 7; ++n) EXPECT_EQ(sums_per_solve[static_cast<std::size_t>(n)], 1.0) << "evaluation " << n;
+
+  std::fill(before_last.h_prev.begin(), before_last.h_prev.end(), 0.0);  // no history: start from the previous h
+  std::fill(before_last.h_prev2.begin(), before_last.h_prev2.end(), 0.0);
+  PhaseTimers other_timers;
+  RateEvaluator<2> plain(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), other_timers, Smoothing::Adaptive, 50);
+  plain.evaluate(before_last);
+  EXPECT_GT(plain.smoothing_length_sums(), p.size() * 3 / 2);
+  double worst = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) worst = std::max(worst, std::abs(before_last.h[i] / p.h[i] - 1.0));
+  EXPECT_LT(worst, 1e-8);
+}
+
 // Same h, lists and rates for any thread count.
 TEST(SmoothingLength, SameBitsForAnyThreadCount) {
   std::vector<Particles<2>> results;

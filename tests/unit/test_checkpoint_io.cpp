@@ -33,6 +33,8 @@ Particles<2> sample_particles() {
     p.u[i] = 0.5 * static_cast<double>(i % 5);
     p.du_dt[i] = -1e-3 * static_cast<double>(i % 3);
     p.acc[i] = Vec<2>{{1e-3 * static_cast<double>(i), -2e-3}};
+    p.h_prev[i] = 0.99 * p.h[i];
+    p.h_prev2[i] = i % 5 ? 0.98 * p.h[i] : 0.0;
   }
   return p;
 }
@@ -105,7 +107,7 @@ TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
         if (other.name == info.name) expect_same_bits(field, read), ++compared;
     });
   });
-  EXPECT_EQ(compared, 8u);  // id, mass, pos, vel, u, h, acc, du_dt
+  EXPECT_EQ(compared, 10u);  // id, mass, pos, vel, u, h, acc, du_dt, h_prev, h_prev2
   EXPECT_EQ(r.time, s.time);
   EXPECT_EQ(r.step, s.step);
   EXPECT_EQ(r.next_output, s.next_output);
@@ -144,6 +146,35 @@ TEST(Checkpoint, FormatOneFilesAreStillReadAndChecked) {
   expect_same_bits(p.du_dt, q.du_dt);
   EXPECT_EQ(r.step, s.step);
   overwrite_mass_row(path, 10, 2.0 * p.mass[10]);
+  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+}
+
+// A checkpoint of format 2 (fixtures/checkpoint_format2.hdf5: 300 ring particles after 3 steps,
+// written by commit 7847b5b) is still read: its particles have no smoothing-length history yet, as
+// new particles do. From format 3 on the history is required.
+TEST(Checkpoint, FormatTwoFilesAreReadWithoutHistory) {
+  const std::string fixture = std::string(SPHDISK_SOURCE_DIR) + "/tests/fixtures/checkpoint_format2.hdf5";
+  RunState r;
+  if (kSinglePrecisionFields) {  // written by a double build: refused (RefusesAnotherFieldPrecision)
+    EXPECT_THROW(read_checkpoint(fixture, r), UserError);
+  } else {
+    const Particles<2> q = read_checkpoint(fixture, r);
+    ASSERT_EQ(q.size(), 300u);
+    EXPECT_EQ(r.step, 3);
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      ASSERT_GT(q.h[i], 0.0);
+      ASSERT_EQ(q.h_prev[i], 0.0);
+      ASSERT_EQ(q.h_prev2[i], 0.0);
+    }
+  }
+
+  const Particles<2> p = sample_particles();
+  const fs::path path = temp_file("format3_without_history.h5");
+  write_checkpoint(path.string(), p, sample_state());
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    ASSERT_GE(H5Ldelete(f, "Particles/h_prev", H5P_DEFAULT), 0);
+  }
   EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
 }
 
