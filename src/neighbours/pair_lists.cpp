@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <stdexcept>
+#include <type_traits>
 
 #include "core/snug_resize.hpp"
 
@@ -102,6 +103,7 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   out.writable = std::min(writable, n);
   const TileLayout<D> L = tile_layout(grid, std::max(tile_cells, 1));
   out.tile_cells = L.T;
+  out.tile_length = L.T * grid.cell_size;
   const std::size_t ntiles = L.size();
 
   // Tile order: tile sizes, then each tile's slots copied in parallel.
@@ -158,9 +160,11 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // list that comes later in cell order stays in i's half list (in list order); an earlier one is
 // handed to j (transposed) where transpose(i, j) says that j's own list lacks i, else dropped (j
 // has it). Handed-over partners follow j's own, in cell order. Pairs of two unwritable particles
-// are dropped.
-template <int D, class Transpose>
-void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& transpose) {
+// are dropped. within_tile(i): whether i's whole list lies within one tile length of it, so that
+// every partner is in the same or an adjacent tile (cells differ by at most tile_cells, tiles by at
+// most one) and the tiles need not be compared (all but the ~1% widest supports).
+template <int D, class Transpose, class WithinTile>
+void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& transpose, WithinTile&& within_tile) {
   const std::size_t n = out.order.size();
   const std::size_t m = out.writable;
   const std::size_t ns = src.size();
@@ -184,15 +188,21 @@ void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& tran
       // transposed pairs are rare.
       std::size_t end = B.near.size();
       B.near.resize(end + src.count(i));
-      for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
-        const std::uint32_t j = *it;
-        const bool later = slot[j] > slot_i, near = tiles_adjacent<D>(tile + D * i, tile + D * j);
-        const bool wanted = i_writable | (j < m);
-        B.near[end] = j;
-        end += static_cast<std::size_t>(later & near & wanted);
-        if (later && !near && wanted) B.far.push_back(j);
-        if (!later && wanted && transpose(i, j)) B.transposed.push_back({j, static_cast<std::uint32_t>(i), !near});
-      }
+      const auto entries = [&](auto all_near) {
+        for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
+          const std::uint32_t j = *it;
+          bool near = true;
+          if constexpr (!decltype(all_near)::value) near = tiles_adjacent<D>(tile + D * i, tile + D * j);
+          const bool later = slot[j] > slot_i;
+          const bool wanted = i_writable | (j < m);
+          B.near[end] = j;
+          end += static_cast<std::size_t>(later & near & wanted);
+          if (later && !near && wanted) B.far.push_back(j);
+          if (!later && wanted && transpose(i, j)) B.transposed.push_back({j, static_cast<std::uint32_t>(i), !near});
+        }
+      };
+      if (within_tile(i)) entries(std::true_type{});
+      else entries(std::false_type{});
       B.near.resize(end);
       B.near_start.push_back(static_cast<std::uint32_t>(end));
       B.far_start.push_back(static_cast<std::uint32_t>(B.far.size()));
@@ -254,7 +264,11 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
   if (gather.size() != out.order.size())
     throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
   // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
-  half_lists_from<D>(gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; });
+  // i's list reaches 2 h_i; the margin covers the round-off of the cell coordinates.
+  const double within = (1.0 - 1e-9) * out.tile_length;
+  half_lists_from<D>(
+      gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; },
+      [&](std::size_t i) { return i < h.size() && 2.0 * h[i] < within; });
 }
 
 namespace {
@@ -315,6 +329,7 @@ void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& 
   out.slot = listed.slot;
   out.tile = listed.tile;
   out.tile_cells = listed.tile_cells;
+  out.tile_length = listed.tile_length;
   const auto interacting = [&](std::size_t i, std::uint32_t j) {
     const double reach = 2.0 * std::max(h[i], h[j]);
     return norm2(pos[i] - pos[j]) < reach * reach;

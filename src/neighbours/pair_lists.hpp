@@ -40,6 +40,7 @@ struct PairLists {
   std::vector<std::uint32_t> slot;        // each particle's place in cell order (its grid slot)
   std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
   int tile_cells = 1;                     // cells per tile and dimension
+  double tile_length = 0;                 // tile_cells x the grid's cell size
 
   std::size_t total() const { return near.total() + far.total(); }  // pairs; also the pair-factor count
   std::size_t bytes() const;
