@@ -18,8 +18,8 @@ namespace {
 constexpr int kDim = 2;
 // Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; still read.
 // Format 2: the row-sum checksum below, which ranks can compute on their own rows.
-// Format 2: per-row checksums; format 3 adds the smoothing-length history (h_prev, h_prev2), which
-// earlier files lack: their particles start without one, as new particles do.
+// Format 3 (2026-11-30): adds the smoothing-length history (h_prev, h_prev2), which earlier files
+// lack: their particles start without one, as new particles do.
 constexpr long long kFormatVersion = 3;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
