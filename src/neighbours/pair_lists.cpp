@@ -268,7 +268,7 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
   const double within = (1.0 - 1e-9) * out.tile_length;
   half_lists_from<D>(
       gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; },
-      [&](std::size_t i) { return i < h.size() && 2.0 * h[i] < within; });
+      [&](std::size_t i) { return 2.0 * h[i] < within; });
 }
 
 namespace {
