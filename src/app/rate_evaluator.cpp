@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/snug_resize.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
@@ -323,10 +324,10 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       // list at a time: the partners' distances and slopes gathered first, so that the loop of
       // square roots, kernel slopes and divisions runs on contiguous data and vectorises.
       const auto form = [this, &p](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
-        thread_local std::vector<double> r2;
-        thread_local std::vector<KernelSlope> sj;
-        r2.resize(js.size());
-        sj.resize(js.size());
+        thread_local std::vector<double> r2_buffer;
+        thread_local std::vector<KernelSlope> sj_buffer;
+        double* r2 = scratch_for(r2_buffer, js.size());
+        KernelSlope* sj = scratch_for(sj_buffer, js.size());
         const Vec<D> xi = p.pos[i];
         for (std::size_t q = 0; q < js.size(); ++q) {
           r2[q] = norm2(xi - p.pos[js[q]]);

@@ -15,3 +15,12 @@ void resize_snug(std::vector<T>& v, std::size_t n) {
 }
 
 }  // namespace sphdisk
+
+// A per-thread scratch buffer of at least n entries for one list's values: it only ever grows, so
+// that the many lists of an evaluation (sizes varying by tens around their mean) neither zero-fill
+// the entries a resize adds nor pay for a size update. The values beyond n are stale.
+template <class T>
+T* scratch_for(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(n + n / 4);
+  return v.data();
+}

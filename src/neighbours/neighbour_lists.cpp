@@ -79,30 +79,47 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     cnt.swap(block_count[b]);
     const std::size_t i0 = first + b * kBlock, i1 = std::min(last, i0 + kBlock);
     cnt.resize(i1 - i0);
-    idx.clear();
+    // idx and d2 are buffers whose first `used` entries count: they grow (zero-filled) only when a
+    // row of candidates would not fit, so that appending a row costs no fill and no size update.
+    std::size_t used = 0;
+    const auto room_for = [&](std::size_t more) {
+      if (used + more <= idx.size()) return;
+      idx.resize(std::max(2 * idx.size(), used + more + 256));
+    };
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
       const auto accept_i = accept.for_particle(i);
-      const std::size_t before = idx.size();
+      const std::size_t before = used;
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
         const int reach = cells_within(grid, radius);
-        const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
-          if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
-          // Branch-free append: every candidate is written, the end advances only for neighbours.
-          // About half the candidates are accepted at random, so a branch here mispredicts often.
-          std::size_t end = idx.size();
-          idx.resize(end + (s1 - s0));
-          if constexpr (kDistances) d2.resize(end - before + (s1 - s0));
-          std::uint32_t* out = idx.data();
+        // Branch-free append: every candidate is written, the end advances only for neighbours.
+        // About half the candidates are accepted at random, so a branch here mispredicts often.
+        // The index bound is tested only where there is one (kFiltered).
+        const auto append = [&](std::uint32_t s0, std::uint32_t s1, auto filtered_c) {
+          constexpr bool kFiltered = decltype(filtered_c)::value;
+          room_for(s1 - s0);
+          std::size_t found = used - before;
+          if constexpr (kDistances)
+            if (d2.size() < found + (s1 - s0)) d2.resize(2 * (found + (s1 - s0)));
+          std::uint32_t* out = idx.data() + before;
+          double* out_d2 = d2.data();
+          const std::uint32_t* js = grid.sorted.data();
+          const Vec<D>* xs = grid.sorted_pos.data();
           for (std::uint32_t s = s0; s < s1; ++s) {
-            const std::uint32_t j = grid.sorted[s];
-            const double dist2 = norm2(grid.sorted_pos[s] - xi);
-            out[end] = j;
-            if constexpr (kDistances) d2[end - before] = dist2;
-            end += static_cast<std::size_t>((dist2 < r2) & accept_i(j) & (j < below));
+            const std::uint32_t j = js[s];
+            const double dist2 = norm2(xs[s] - xi);
+            out[found] = j;
+            if constexpr (kDistances) out_d2[found] = dist2;
+            bool keep = (dist2 < r2) & accept_i(j);
+            if constexpr (kFiltered) keep &= j < below;
+            found += static_cast<std::size_t>(keep);
           }
-          idx.resize(end);
+          used = before + found;
+        };
+        const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
+          if (!filtered) return append(s0, s1, std::false_type{});
+          if (filter.slot_prefix[s1] != filter.slot_prefix[s0]) append(s0, s1, std::true_type{});
         };
         if constexpr (Accept::kHalf) {
           const std::uint32_t own = accept.slot_of(i);
@@ -110,11 +127,11 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         } else {
           for_each_candidate_range<D>(grid, xi, reach, scan);
         }
-        const std::size_t found = idx.size() - before;
+        const std::size_t found = used - before;
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, found),
                                    std::span<const double>(d2.data(), kDistances ? found : 0), radius);
         if (keep > radius) {  // search again, wider
-          idx.resize(before);
+          used = before;
           radius = keep;
           continue;
         }
@@ -122,18 +139,18 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
                               // the ~10% dropped lie at random in the list)
           const double keep2 = keep * keep;
           std::size_t out = before;
-          for (std::size_t k = before; k < idx.size(); ++k) {
+          for (std::size_t k = before; k < used; ++k) {
             idx[out] = idx[k];
             out += static_cast<std::size_t>((kDistances ? d2[k - before] : norm2(pos[idx[k]] - xi)) < keep2);
           }
-          idx.resize(out);
+          used = out;
         }
         break;
       }
-      if (!kKeep) idx.resize(before);
-      cnt[i - i0] = static_cast<std::uint32_t>(idx.size() - before);
+      if (!kKeep) used = before;
+      cnt[i - i0] = static_cast<std::uint32_t>(used - before);
     }
-    idx.swap(block_index[b]);
+    idx.swap(block_index[b]);  // kept at its buffer size: the block's lists are its first `used` entries
     cnt.swap(block_count[b]);
   }, "neighbour_search", 1);
   if (!kKeep) return;
@@ -141,10 +158,14 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
   nl.offsets.resize(n + 1);
   nl.offsets[0] = 0;
   std::vector<std::size_t> block_start(nblocks + 1, 0);
-  for (std::size_t b = 0; b < nblocks; ++b) block_start[b + 1] = block_start[b] + block_index[b].size();
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    std::size_t used = 0;
+    for (const std::uint32_t c : block_count[b]) used += c;
+    block_start[b + 1] = block_start[b] + used;
+  }
   resize_snug(nl.index, block_start[nblocks]);
   par::for_each(nblocks, [&](std::size_t b) {
-    std::copy(block_index[b].begin(), block_index[b].end(), nl.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
+    std::copy_n(block_index[b].begin(), block_start[b + 1] - block_start[b], nl.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
     std::size_t off = block_start[b];
     for (std::size_t k = 0; k < block_count[b].size(); ++k) {
       off += block_count[b][k];

@@ -61,9 +61,9 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
     const double mi = p.mass[i];
     // In three loops: the partners' squared distances gathered, then the square roots, kernel
     // values and factors on contiguous data (a loop GCC vectorises), then the sums in list order.
-    thread_local std::vector<double> r2, w;
-    r2.resize(js.size());
-    w.resize(js.size());
+    thread_local std::vector<double> r2_buffer, w_buffer;
+    double* r2 = scratch_for(r2_buffer, js.size());
+    double* w = scratch_for(w_buffer, js.size());
     for (std::size_t q = 0; q < js.size(); ++q) r2[q] = norm2(xi - p.pos[js[q]]);
     for (std::size_t q = 0; q < js.size(); ++q) {
       const double r = std::sqrt(r2[q]);
