@@ -20,10 +20,12 @@
 #include <limits>
 #include <numbers>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
+#include "core/snug_resize.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "physics/kernels.hpp"
 
@@ -84,16 +86,15 @@ template <class K, int D>
 SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, std::span<const std::uint32_t> cand,
                                           std::span<const double> dist2, double h_start, double eta, double h_max,
                                           double uniform_mass, double tolerance = 1e-4) {
-  // m_j and r_ij once; every iteration re-reads them contiguously. Equal masses are filled in rather
-  // than gathered (the same values: the gather's scattered loads were a fifth of the solve).
-  thread_local std::vector<double> mass, dist;
-  mass.resize(cand.size());
-  dist.resize(cand.size());
-  if (uniform_mass > 0) {
-    std::fill(mass.begin(), mass.end(), uniform_mass);
-  } else {
+  // m_j and r_ij once; every iteration re-reads them contiguously. Equal masses are factored out of
+  // the sums instead (m sum_j w_j: no gather, fill or product per candidate; the gather's scattered
+  // loads were a fifth of the solve).
+  thread_local std::vector<double> mass_buffer, dist_buffer;
+  const bool uniform = uniform_mass > 0;
+  double* mass = uniform ? nullptr : scratch_for(mass_buffer, cand.size());
+  double* dist = scratch_for(dist_buffer, cand.size());
+  if (!uniform)
     for (std::size_t k = 0; k < cand.size(); ++k) mass[k] = p.mass[cand[k]];
-  }
   if (dist2.size() == cand.size()) {
     for (std::size_t k = 0; k < cand.size(); ++k) dist[k] = std::sqrt(dist2[k]);
   } else {
@@ -103,24 +104,34 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   // rho(h) and d rho/dh: sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)) (the latter is
   // -h^(D+1)/sigma d rho/dh), in four interleaved partial sums (added in a fixed order) so that the
   // compiler can use vector instructions: an ordered double sum cannot be vectorised.
-  const auto density_at = [&](double h) {
-    const double inv_h = 1.0 / h;
+  const auto sums_at = [&](double inv_h, auto uniform_c) {
+    constexpr bool kUniform = decltype(uniform_c)::value;
+    const auto m_of = [&](std::size_t k) {
+      if constexpr (kUniform) return 1.0;
+      else return mass[k];
+    };
     double sw4[4] = {}, sdw4[4] = {};
     std::size_t k = 0;
     for (; k + 4 <= cand.size(); k += 4)
       for (std::size_t l = 0; l < 4; ++l) {
         const double q = dist[k + l] * inv_h, w = K::w(q);
-        sw4[l] += mass[k + l] * w;
-        sdw4[l] += mass[k + l] * (D * w + q * K::dw(q));
+        sw4[l] += m_of(k + l) * w;
+        sdw4[l] += m_of(k + l) * (D * w + q * K::dw(q));
       }
     for (std::size_t l = 0; k < cand.size(); ++k, ++l) {
       const double q = dist[k] * inv_h, w = K::w(q);
-      sw4[l] += mass[k] * w;
-      sdw4[l] += mass[k] * (D * w + q * K::dw(q));
+      sw4[l] += m_of(k) * w;
+      sdw4[l] += m_of(k) * (D * w + q * K::dw(q));
     }
+    const double scale = kUniform ? uniform_mass : 1.0;
+    return std::pair{scale * ((sw4[0] + sw4[1]) + (sw4[2] + sw4[3])), scale * ((sdw4[0] + sdw4[1]) + (sdw4[2] + sdw4[3]))};
+  };
+  const auto density_at = [&](double h) {
+    const double inv_h = 1.0 / h;
+    const auto [sum_w, sum_dw] = uniform ? sums_at(inv_h, std::true_type{}) : sums_at(inv_h, std::false_type{});
     const double self = mi * K::w(0.0);
-    const double sw = self + ((sw4[0] + sw4[1]) + (sw4[2] + sw4[3]));
-    const double sdw = D * self + ((sdw4[0] + sdw4[1]) + (sdw4[2] + sdw4[3]));
+    const double sw = self + sum_w;
+    const double sdw = D * self + sum_dw;
     double norm = K::template sigma<D>();
     for (int d = 0; d < D; ++d) norm *= inv_h;
     return std::pair{norm * sw, -norm * inv_h * sdw};
