@@ -32,10 +32,12 @@ struct Vec {
   friend constexpr bool operator==(const Vec&, const Vec&) = default;
 };
 
+// Sums start from the first product, not from 0: 0 + x cannot be dropped by the compiler (it
+// turns -0 into +0), so a zero start costs an instruction or two in every pair loop.
 template <int D>
 constexpr double dot(const Vec<D>& a, const Vec<D>& b) {
-  double s = 0;
-  for (int k = 0; k < D; ++k) s += a[k] * b[k];
+  double s = a[0] * b[0];
+  for (int k = 1; k < D; ++k) s += a[k] * b[k];
   return s;
 }
 template <int D>
@@ -92,8 +94,10 @@ constexpr void store(T& to, double x) {
 template <int D>
 constexpr Vec<D> contract(const Mat<D>& t, const Vec<D>& v) {
   Vec<D> r;
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) r[a] += t(a, b) * v[b];
+  for (int a = 0; a < D; ++a) {
+    r[a] = t(a, 0) * v[0];  // from the first product (see dot)
+    for (int b = 1; b < D; ++b) r[a] += t(a, b) * v[b];
+  }
   return r;
 }
 
