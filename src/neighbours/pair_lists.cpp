@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <stdexcept>
 #include <type_traits>
 
@@ -156,8 +157,8 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }
 }
 
-// The half lists of the pairs in `src` (lists of the particles [0, src.size())): an entry j of i's
-// list that comes later in cell order stays in i's half list (in list order); an earlier one is
+// The half lists of the pairs in `src` (lists of the particles [0, src.size()), each in cell order as
+// the neighbour search gives them): an entry j of i's list that comes later in cell order stays in i's half list (in list order); an earlier one is
 // handed to j (transposed) where transpose(i, j) says that j's own list lacks i, else dropped (j
 // has it). Handed-over partners follow j's own, in cell order. Pairs of two unwritable particles
 // are dropped. within_tile(i): whether i's whole list lies within one tile length of it, so that
@@ -184,27 +185,36 @@ void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& tran
     for (std::size_t i = i0; i < i1; ++i) {
       const std::uint32_t slot_i = slot[i];
       const bool i_writable = i < m;
-      // Branch-free append of the near pairs (about half the entries, at random); far and
-      // transposed pairs are rare.
+      // The list is in cell order (the search scans rows of cells in order), so its later
+      // partners are its tail, found by bisection on their slots.
+      const std::uint32_t* first = src.begin(i);
+      const std::uint32_t* last = src.end(i);
+      assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
+      const std::uint32_t* later = std::partition_point(first, last, [&](std::uint32_t j) { return slot[j] < slot_i; });
+      // Earlier partners: handed to them where their own lists lack i (rare).
+      for (const std::uint32_t* it = first; it != later; ++it) {
+        const std::uint32_t j = *it;
+        if ((i_writable | (j < m)) && transpose(i, j))
+          B.transposed.push_back({j, static_cast<std::uint32_t>(i), !tiles_adjacent<D>(tile + D * i, tile + D * j)});
+      }
+      // Later partners stay: all of them near (copied as they are) for a writable particle within
+      // one tile length; else sorted into near and far, and pairs of two unwritable ones dropped.
       std::size_t end = B.near.size();
-      B.near.resize(end + src.count(i));
-      const auto entries = [&](auto all_near) {
-        for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
+      if (i_writable && within_tile(i)) {
+        B.near.insert(B.near.end(), later, last);
+      } else {
+        B.near.resize(end + static_cast<std::size_t>(last - later));
+        for (const std::uint32_t* it = later; it != last; ++it) {  // branch-free append of the near ones
           const std::uint32_t j = *it;
-          bool near = true;
-          if constexpr (!decltype(all_near)::value) near = tiles_adjacent<D>(tile + D * i, tile + D * j);
-          const bool later = slot[j] > slot_i;
+          const bool near = tiles_adjacent<D>(tile + D * i, tile + D * j);
           const bool wanted = i_writable | (j < m);
           B.near[end] = j;
-          end += static_cast<std::size_t>(later & near & wanted);
-          if (later && !near && wanted) B.far.push_back(j);
-          if (!later && wanted && transpose(i, j)) B.transposed.push_back({j, static_cast<std::uint32_t>(i), !near});
+          end += static_cast<std::size_t>(near & wanted);
+          if (!near && wanted) B.far.push_back(j);
         }
-      };
-      if (within_tile(i)) entries(std::true_type{});
-      else entries(std::false_type{});
-      B.near.resize(end);
-      B.near_start.push_back(static_cast<std::uint32_t>(end));
+        B.near.resize(end);
+      }
+      B.near_start.push_back(static_cast<std::uint32_t>(B.near.size()));
       B.far_start.push_back(static_cast<std::uint32_t>(B.far.size()));
     }
     blocks[b] = std::move(B);
