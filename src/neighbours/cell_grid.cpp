@@ -97,14 +97,20 @@ void fill_cell_grid(const Lattice<D>& lattice, const Vec<D>& lo, const Vec<D>& h
     std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
     for (std::size_t i = 0; i < n; ++i) g.sorted[fill[key[i]]++] = static_cast<std::uint32_t>(i);
   }
-  // Order inside each cell by particle ID (cells hold a handful of particles: insertion sort).
+  // Order inside each cell by x, then by particle ID (cells hold a handful of particles: insertion
+  // sort). Cells of a row follow each other in x, so every row of cells is sorted by x; particles
+  // reordered in this order (the runs' periodic reorder) lie closer in memory to their neighbours
+  // than in ID order inside cells (cell_grid.hpp).
+  const auto before = [&](std::uint32_t a, std::uint32_t b) {
+    return pos[a][0] < pos[b][0] || (pos[a][0] == pos[b][0] && id[a] < id[b]);
+  };
   par::for_each(ncells, [&](std::size_t c) {
     auto* first = g.sorted.data() + g.offsets[c];
     auto* last = g.sorted.data() + g.offsets[c + 1];
     for (auto* p = first + 1; p < last; ++p) {
       const std::uint32_t v = *p;
       auto* q = p;
-      while (q > first && id[*(q - 1)] > id[v]) {
+      while (q > first && before(v, *(q - 1))) {
         *q = *(q - 1);
         --q;
       }

@@ -92,7 +92,6 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
       const std::size_t before = used;
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
-        const int reach = cells_within(grid, radius);
         // Branch-free append: every candidate is written, the end advances only for neighbours.
         // About half the candidates are accepted at random, so a branch here mispredicts often.
         // The index bound is tested only where there is one (kFiltered).
@@ -123,9 +122,9 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         };
         if constexpr (Accept::kHalf) {
           const std::uint32_t own = accept.slot_of(i);
-          for_each_candidate_range<D>(grid, xi, reach, scan, &own);
+          for_each_candidate_range<D>(grid, xi, radius, scan, &own);
         } else {
-          for_each_candidate_range<D>(grid, xi, reach, scan);
+          for_each_candidate_range<D>(grid, xi, radius, scan);
         }
         const std::size_t found = used - before;
         const double keep = settle(i, std::span<const std::uint32_t>(idx.data() + before, found),

@@ -111,8 +111,8 @@ class ScannedPairs {
       }
       js.resize(end);
     };
-    if (equal_h_) for_each_candidate_range<D>(grid_, xi, reach, scan, &slot_i);
-    else for_each_candidate_range<D>(grid_, xi, reach, scan);
+    if (equal_h_) for_each_candidate_range<D>(grid_, xi, si, scan, &slot_i);
+    else for_each_candidate_range<D>(grid_, xi, si, scan);
     if (check_tiles) {  // keep the pairs of this pass only
       std::size_t keep = 0;
       for (const std::uint32_t j : js)

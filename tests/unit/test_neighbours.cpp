@@ -9,9 +9,11 @@
 
 using namespace sphdisk;
 
+// cell_size: of the grid (default: the radius, one cell of reach); smaller cells make each search
+// clip its rows of cells to the chord of its circle (candidate_ranges.hpp).
 template <int D>
-void check_against_brute_force(const Particles<D>& p, double radius) {
-  const auto grid = build_cell_grid(p.pos, p.id, radius);
+void check_against_brute_force(const Particles<D>& p, double radius, double cell_size = 0) {
+  const auto grid = build_cell_grid(p.pos, p.id, cell_size > 0 ? cell_size : radius);
   const auto nl = build_neighbour_lists(grid, p.pos, radius);
   ASSERT_EQ(nl.size(), p.size());
   std::size_t total = 0;
@@ -32,6 +34,19 @@ TEST(Neighbours, EqualBruteForceClustered2D) { check_against_brute_force(test::r
 TEST(Neighbours, EqualBruteForceRandom3D) { check_against_brute_force(test::random_particles<3>(2000, 3, false), 0.12); }
 TEST(Neighbours, EqualBruteForceClustered3D) { check_against_brute_force(test::random_particles<3>(2000, 4, true), 0.05); }
 
+// Cells of a third and a fifth of the radius: rows of up to 11 cells, clipped to the chord at each
+// row's nearest distance (a chord 1% short fails here). On a lattice with the cell size as spacing,
+// particles sit on cell edges and at the chords' ends.
+TEST(Neighbours, ChordClippedRowsLoseNothing) {
+  check_against_brute_force(test::random_particles<2>(2000, 5, true), 0.05, 0.05 / 3.0);
+  check_against_brute_force(test::random_particles<3>(2000, 6, true), 0.1, 0.1 / 3.0);
+  const double dx = 0.025;
+  const auto lattice = test::square_lattice(40, dx);
+  check_against_brute_force(lattice, 2.5 * dx, dx);
+  check_against_brute_force(lattice, 5.0 * dx * (1 + 1e-15), dx);
+  check_against_brute_force(lattice, 5.0 * dx, 0.5 * dx);
+}
+
 TEST(Neighbours, FarOutlierDoesNotBlowUpTheGrid) {
   auto p = test::random_particles<2>(500, 5, false);
   p.pos[17] = Vec<2>{{1e9, -1e9}};
@@ -40,7 +55,7 @@ TEST(Neighbours, FarOutlierDoesNotBlowUpTheGrid) {
   check_against_brute_force(p, 0.05);
 }
 
-// Order inside each list is by cell, then by particle ID: independent of memory order.
+// Order inside each list is by cell, then by x and particle ID: independent of memory order.
 TEST(Neighbours, OrderDoesNotDependOnMemoryOrder) {
   auto p = test::random_particles<2>(3000, 6, true);
   const double radius = 0.03;
