@@ -14,8 +14,6 @@ void resize_snug(std::vector<T>& v, std::size_t n) {
   v.resize(n);
 }
 
-}  // namespace sphdisk
-
 // A per-thread scratch buffer of at least n entries for one list's values: it only ever grows, so
 // that the many lists of an evaluation (sizes varying by tens around their mean) neither zero-fill
 // the entries a resize adds nor pay for a size update. The values beyond n are stale.
@@ -24,3 +22,5 @@ T* scratch_for(std::vector<T>& v, std::size_t n) {
   if (v.size() < n) v.resize(n + n / 4);
   return v.data();
 }
+
+}  // namespace sphdisk

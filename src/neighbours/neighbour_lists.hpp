@@ -1,8 +1,8 @@
 #pragma once
 // Per-particle neighbour lists (P98 sec. 4.1, Fig. 2) stored as offsets + indices (CSR). Particle i
 // has neighbours index[offsets[i] .. offsets[i+1]), itself excluded, all j with |x_i - x_j| < radius,
-// in cell order (by x, then ID, inside a cell: see cell_grid.hpp): a fixed order, so pair sums give the
-// same bits for any thread count.
+// in cell order (by x, then ID, inside a cell: see cell_grid.hpp): a fixed order, so pair sums give
+// the same bits for any thread count.
 #include <cstdint>
 #include <cstddef>
 #include <functional>

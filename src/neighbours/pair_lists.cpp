@@ -157,13 +157,14 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }
 }
 
-// The half lists of the pairs in `src` (lists of the particles [0, src.size()), each in cell order as
-// the neighbour search gives them): an entry j of i's list that comes later in cell order stays in i's half list (in list order); an earlier one is
-// handed to j (transposed) where transpose(i, j) says that j's own list lacks i, else dropped (j
-// has it). Handed-over partners follow j's own, in cell order. Pairs of two unwritable particles
-// are dropped. within_tile(i): whether i's whole list lies within one tile length of it, so that
-// every partner is in the same or an adjacent tile (cells differ by at most tile_cells, tiles by at
-// most one) and the tiles need not be compared (all but the ~1% widest supports).
+// The half lists of the pairs in `src` (lists of the particles [0, src.size()), each in cell order
+// as the neighbour search gives them): an entry j of i's list that comes later in cell order stays
+// in i's half list (in list order); an earlier one is handed to j (transposed) where
+// transpose(i, j) says that j's own list lacks i, else dropped (j has it). Handed-over partners
+// follow j's own, in cell order. Pairs of two unwritable particles are dropped. within_tile(i):
+// whether i's whole list lies within one tile length of it, so that every partner is in the same or
+// an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and the tiles need not
+// be compared (all but the ~1% widest supports).
 template <int D, class Transpose, class WithinTile>
 void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& transpose, WithinTile&& within_tile) {
   const std::size_t n = out.order.size();

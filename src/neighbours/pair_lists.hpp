@@ -4,8 +4,8 @@
 // the schedule that does this on threads with the same bits for any thread or rank count.
 //
 // A pair belongs to the particle that comes first in cell order (the grid's order: cells of the
-// shared lattice x fastest, by x and ID inside a cell), so its partners lie in its own row of cells or
-// the rows above: the half stencil of the symmetric sequential code. Tiles are blocks of T^D
+// shared lattice x fastest, by x and ID inside a cell), so its partners lie in its own row of cells
+// or the rows above: the half stencil of the symmetric sequential code. Tiles are blocks of T^D
 // cells; a tile's task evaluates the pairs of its particles (in cell order) and, for near pairs
 // (tiles equal or adjacent), writes only to its own tile, its row neighbours x-1 and x+1 and the
 // three tiles of the next row (in 3D also the 9 tiles of the next layer). Tiles coloured
