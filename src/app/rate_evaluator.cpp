@@ -217,12 +217,12 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
       // The kept lists reach (1 + skin) 2 h: the solve first gets the candidates within the
       // search radius of a fresh search (kSkin 2 h), about 1 / (1 + skin)^D of them, and all of them
       // only if h grew beyond.
-      thread_local std::vector<std::uint32_t> near;
-      thread_local std::vector<double> near_d2;
+      thread_local std::vector<std::uint32_t> near_buffer;
+      thread_local std::vector<double> near_d2_buffer;
       const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
       const double radius = std::min(2.0 * kSkin * p.h[i], kept_[i]);
-      near.resize(cand.size());
-      near_d2.resize(cand.size());
+      std::uint32_t* near = scratch_for(near_buffer, cand.size());
+      double* near_d2 = scratch_for(near_d2_buffer, cand.size());
       std::size_t count = 0;
       for (const std::uint32_t j : cand) {  // branch-free append
         const double d2 = norm2(p.pos[i] - p.pos[j]);
@@ -230,7 +230,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
         near_d2[count] = d2;
         count += static_cast<std::size_t>(d2 < radius * radius);
       }
-      SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span(near.data(), count), std::span(near_d2.data(), count),
+      SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span<const std::uint32_t>(near, count), std::span<const double>(near_d2, count),
                                                           p.h[i], eta_, 0.5 * radius, uniform_mass);
       std::size_t taken = static_cast<std::size_t>(r.sums);
       if (r.beyond_candidates && radius < kept_[i]) {

@@ -4,7 +4,6 @@
 #include <array>
 #include <cassert>
 #include <stdexcept>
-#include <type_traits>
 
 #include "core/snug_resize.hpp"
 
