@@ -9,13 +9,6 @@
 namespace sphdisk {
 
 template <int D>
-int CellGrid<D>::coord(double x, int k) const {
-  const double c = std::floor((x - lo[k]) / cell_size) - origin[static_cast<std::size_t>(k)];
-  if (!(c >= 0)) return 0;  // also catches NaN
-  return c >= dims[static_cast<std::size_t>(k)] ? dims[static_cast<std::size_t>(k)] - 1 : static_cast<int>(c);
-}
-
-template <int D>
 std::size_t CellGrid<D>::linear(const std::array<int, D>& c) const {
   std::size_t idx = 0;
   for (int k = D - 1; k >= 0; --k)

@@ -12,6 +12,7 @@
 // of its cell (0, ..., 0)). Cell coordinates are always computed from the lattice corner, so a
 // particle falls into the same cell on every rank and neighbours come in the same order.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -48,7 +49,19 @@ struct CellGrid {
     return (sorted.capacity() + offsets.capacity() + key.capacity()) * sizeof(std::uint32_t) +
            sorted_pos.capacity() * sizeof(Vec<D>);
   }
-  int coord(double x, int k) const;                  // clamped to [0, dims[k])
+  // The cell coordinate of x along axis k, clamped to [0, dims[k]). Inline, and floor only for a
+  // negative quotient: for t >= 0, floor(t) is the truncation, and x86-64's baseline has no
+  // rounding instruction, so std::floor was a call, in every row of every search (~3% of a
+  // step's instructions). The same cells as floor((x - lo) / cell_size) - origin.
+  int coord(double x, int k) const {
+    const auto kk = static_cast<std::size_t>(k);
+    const double t = (x - lo[k]) / cell_size;
+    const double first = origin[kk];
+    if (!(t >= first)) return 0;  // also catches NaN
+    if (t >= first + dims[kk]) return dims[kk] - 1;
+    const double whole = t >= 0 ? static_cast<double>(static_cast<std::int64_t>(t)) : std::floor(t);
+    return static_cast<int>(whole - first);
+  }
   std::size_t linear(const std::array<int, D>& c) const;
   std::size_t cell_of(const Vec<D>& x) const;
 };
