@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "integrate/integrator.hpp"
+#include "neighbours/candidate_scan.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
@@ -147,6 +148,20 @@ void BM_AdaptiveStep(benchmark::State& state) {
   }
 }
 
+// The same with the candidate scan's vector instructions switched off (neighbours/candidate_scan.hpp);
+// equal to the above where the CPU lacks them.
+void BM_NeighbourSearchScalarScan(benchmark::State& state) {
+  allow_vector_candidate_scan(false);
+  BM_NeighbourSearch(state);
+  allow_vector_candidate_scan(true);
+}
+
+void BM_AdaptiveStepScalarScan(benchmark::State& state) {
+  allow_vector_candidate_scan(false);
+  BM_AdaptiveStep(state);
+  allow_vector_candidate_scan(true);
+}
+
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
 SPHDISK_PHASE(BM_CellBuild);
 SPHDISK_PHASE(BM_NeighbourSearch);
@@ -154,6 +169,8 @@ SPHDISK_PHASE(BM_Density);
 SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);
 SPHDISK_PHASE(BM_AdaptiveStep);
+SPHDISK_PHASE(BM_NeighbourSearchScalarScan);
+SPHDISK_PHASE(BM_AdaptiveStepScalarScan);
 
 }  // namespace
 

@@ -40,8 +40,20 @@ constexpr double dot(const Vec<D>& a, const Vec<D>& b) {
   for (int k = 1; k < D; ++k) s += a[k] * b[k];
   return s;
 }
+// Where the build has FMA (native builds), the squares are fused explicitly, so that every squared
+// distance in the program, the vectorised ones of neighbours/candidate_scan.cpp included, is formed
+// by the same operations whatever the compiler chooses to contract.
 template <int D>
-constexpr double norm2(const Vec<D>& a) { return dot(a, a); }
+constexpr double norm2(const Vec<D>& a) {
+#ifdef __FMA__
+  if (!std::is_constant_evaluated()) {
+    double s = a[0] * a[0];
+    for (int k = 1; k < D; ++k) s = std::fma(a[k], a[k], s);
+    return s;
+  }
+#endif
+  return dot(a, a);
+}
 template <int D>
 inline double norm(const Vec<D>& a) { return std::sqrt(norm2(a)); }
 

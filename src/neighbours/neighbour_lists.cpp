@@ -7,6 +7,7 @@
 
 #include "core/snug_resize.hpp"
 #include "neighbours/candidate_ranges.hpp"
+#include "neighbours/candidate_scan.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -23,22 +24,19 @@ struct KeepAll {
 struct AllOthers {
   static constexpr bool kHalf = false;
   std::uint32_t slot_of(std::size_t) const { return 0; }
-  auto for_particle(std::size_t i) const {
-    return [i](std::uint32_t j) { return j != i; };
-  }
+  std::uint32_t self(std::size_t i) const { return static_cast<std::uint32_t>(i); }
+  std::uint32_t limit(std::size_t) const { return UINT32_MAX; }
 };
 
-// Half lists (pair_lists.hpp): the candidates after i in cell order, of pairs with a writable particle.
+// Half lists (pair_lists.hpp): the candidates after i in cell order (i itself is not among them),
+// of pairs with a writable particle.
 struct LaterOfWritablePairs {
   static constexpr bool kHalf = true;
   const std::vector<std::uint32_t>& slot;
   std::size_t writable;
   std::uint32_t slot_of(std::size_t i) const { return slot[i]; }
-  auto for_particle(std::size_t i) const {
-    const bool i_writable = i < writable;
-    const std::size_t m = writable;
-    return [=](std::uint32_t j) { return i_writable | (j < m); };
-  }
+  std::uint32_t self(std::size_t) const { return UINT32_MAX; }
+  std::uint32_t limit(std::size_t i) const { return i < writable ? UINT32_MAX : static_cast<std::uint32_t>(writable); }
 };
 
 // Only candidates with an index below `below` are listed; rows of cells that hold none are skipped
@@ -48,11 +46,33 @@ struct CandidateFilter {
   std::vector<std::uint32_t> slot_prefix;  // slot_prefix[s]: slots before s that hold a candidate below `below`
 };
 
+// Appends the candidates of slots [s0, s1) that `target` accepts (centre x) to out, and their squared
+// distances to d2 unless null; returns how many. 2D: candidate_scan.cpp (vectorised where the CPU
+// allows); other dimensions here, the same tests. out and d2 need room for s1 - s0 + kScanSlack.
+template <int D>
+std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const Vec<D>& x, ScanTarget target,
+                     std::uint32_t* out, double* d2) {
+  if constexpr (D == 2) {
+    target.x = x;
+    return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
+  } else {
+    std::size_t found = 0;
+    for (std::uint32_t s = s0; s < s1; ++s) {  // branch-free append (candidate_scan.cpp)
+      const std::uint32_t j = grid.sorted[s];
+      const double dist2 = norm2(grid.sorted_pos[s] - x);
+      out[found] = j;
+      if (d2) d2[found] = dist2;
+      found += static_cast<std::size_t>((dist2 < target.r2) & (j != target.self) & (j < target.limit));
+    }
+    return found;
+  }
+}
+
 // Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.
-// accept: which candidates are scanned (Accept::kHalf: only those after i in cell order) and
-// accept.for_particle(i)(j) whether candidate j may be i's neighbour.
+// accept: which candidates are scanned (Accept::kHalf: only those after i in cell order) and which
+// may be i's neighbours: every j other than accept.self(i) below accept.limit(i).
 // kKeep = false: nothing is listed; only settle sees each particle's candidates (its smoothing-length
 // solve), and at most one particle's candidates are held at a time.
 template <bool kKeep = true, int D, class Radius, class Settle, class Accept = AllOthers>
@@ -88,37 +108,20 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     };
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
-      const auto accept_i = accept.for_particle(i);
       const std::size_t before = used;
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
-        // Branch-free append: every candidate is written, the end advances only for neighbours.
-        // About half the candidates are accepted at random, so a branch here mispredicts often.
-        // The index bound is tested only where there is one (kFiltered).
-        const auto append = [&](std::uint32_t s0, std::uint32_t s1, auto filtered_c) {
-          constexpr bool kFiltered = decltype(filtered_c)::value;
-          room_for(s1 - s0);
-          std::size_t found = used - before;
-          if constexpr (kDistances)
-            if (d2.size() < found + (s1 - s0)) d2.resize(2 * (found + (s1 - s0)));
-          std::uint32_t* out = idx.data() + before;
-          double* out_d2 = d2.data();
-          const std::uint32_t* js = grid.sorted.data();
-          const Vec<D>* xs = grid.sorted_pos.data();
-          for (std::uint32_t s = s0; s < s1; ++s) {
-            const std::uint32_t j = js[s];
-            const double dist2 = norm2(xs[s] - xi);
-            out[found] = j;
-            if constexpr (kDistances) out_d2[found] = dist2;
-            bool keep = (dist2 < r2) & accept_i(j);
-            if constexpr (kFiltered) keep &= j < below;
-            found += static_cast<std::size_t>(keep);
-          }
-          used = before + found;
-        };
+        // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D). The index
+        // bound is tested only in the filtered search's rows (below is UINT32_MAX otherwise).
+        const ScanTarget target{Vec<2>{}, r2, accept.self(i), std::min(accept.limit(i), below)};
         const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
-          if (!filtered) return append(s0, s1, std::false_type{});
-          if (filter.slot_prefix[s1] != filter.slot_prefix[s0]) append(s0, s1, std::true_type{});
+          if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
+          room_for(s1 - s0 + kScanSlack);
+          const std::size_t found = used - before;
+          if constexpr (kDistances)
+            if (d2.size() < found + (s1 - s0) + kScanSlack) d2.resize(2 * (found + (s1 - s0) + kScanSlack));
+          double* out_d2 = kDistances ? d2.data() + found : nullptr;
+          used += scan_row<D>(grid, s0, s1, xi, target, idx.data() + used, out_d2);
         };
         if constexpr (Accept::kHalf) {
           const std::uint32_t own = accept.slot_of(i);
@@ -137,12 +140,16 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         if (keep < radius) {  // drop candidates beyond the kept radius, in place, order kept (branch-free:
                               // the ~10% dropped lie at random in the list)
           const double keep2 = keep * keep;
-          std::size_t out = before;
-          for (std::size_t k = before; k < used; ++k) {
-            idx[out] = idx[k];
-            out += static_cast<std::size_t>((kDistances ? d2[k - before] : norm2(pos[idx[k]] - xi)) < keep2);
+          if constexpr (kDistances) {
+            used = before + keep_within(idx.data() + before, d2.data(), used - before, keep2);
+          } else {
+            std::size_t out = before;
+            for (std::size_t k = before; k < used; ++k) {
+              idx[out] = idx[k];
+              out += static_cast<std::size_t>(norm2(pos[idx[k]] - xi) < keep2);
+            }
+            used = out;
           }
-          used = out;
         }
         break;
       }

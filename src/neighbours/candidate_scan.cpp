@@ -1,0 +1,128 @@
+#include "neighbours/candidate_scan.hpp"
+
+// Compiled with -ffp-contract=off (src/CMakeLists.txt): a product added to another must not be
+// fused in one path and not the other, or the two would disagree on candidates at the radius.
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SPHDISK_X86_VECTOR_SCAN 1
+#endif
+
+namespace sphdisk {
+
+namespace {
+
+bool allowed = true;
+
+// Branch-free append: every candidate is written, the end advances only for accepted ones (about
+// half the candidates are accepted at random, so a branch would mispredict often).
+std::size_t scan_scalar(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
+                        const ScanTarget& t, std::uint32_t* out, double* d2) {
+  std::size_t found = 0;
+  for (std::uint32_t s = s0; s < s1; ++s) {
+    const std::uint32_t j = js[s];
+    const double dist2 = norm2(xs[s] - t.x);
+    out[found] = j;
+    if (d2) d2[found] = dist2;
+    found += static_cast<std::size_t>((dist2 < t.r2) & (j != t.self) & (j < t.limit));
+  }
+  return found;
+}
+
+std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    idx[kept] = idx[k];
+    kept += static_cast<std::size_t>(d2[k] < r2);
+  }
+  return kept;
+}
+
+#ifdef SPHDISK_X86_VECTOR_SCAN
+
+// Eight candidates per round: positions (x, y interleaved) loaded as two vectors and split into
+// x and y by permutes, the tests as one mask, the accepted indices and distances packed to the
+// front by compress and stored whole (the slack takes the rest). The last round masks its loads.
+__attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::uint32_t* js, const Vec<2>* xs,
+                                                                     std::uint32_t s0, std::uint32_t s1,
+                                                                     const ScanTarget& t, std::uint32_t* out,
+                                                                     double* d2) {
+  const __m512d x = _mm512_set1_pd(t.x[0]), y = _mm512_set1_pd(t.x[1]), r2 = _mm512_set1_pd(t.r2);
+  const __m256i self = _mm256_set1_epi32(static_cast<int>(t.self));
+  const __m256i limit = _mm256_set1_epi32(static_cast<int>(t.limit));
+  const __m512i even = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14), odd = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
+  static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions are read as interleaved x, y");
+  const double* base = reinterpret_cast<const double*>(xs);
+  std::size_t found = 0;
+  for (std::uint32_t s = s0; s < s1; s += 8) {
+    const unsigned n = s1 - s < 8 ? s1 - s : 8;
+    const auto live = static_cast<__mmask8>((1u << n) - 1u);
+    const auto first4 = static_cast<__mmask8>((1u << (2 * (n < 4 ? n : 4))) - 1u);
+    const auto last4 = static_cast<__mmask8>(n > 4 ? (1u << (2 * (n - 4))) - 1u : 0u);
+    const __m512d a = _mm512_maskz_loadu_pd(first4, base + 2 * std::size_t{s});
+    const __m512d b = _mm512_maskz_loadu_pd(last4, base + 2 * std::size_t{s} + 8);
+    const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), x);
+    const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), y);
+#ifdef __FMA__
+    const __m512d dist2 = _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));  // as norm2 with FMA
+#else
+    const __m512d dist2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+#endif
+    const __m256i j = _mm256_maskz_loadu_epi32(live, js + s);
+    __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, r2, _CMP_LT_OQ);
+    keep = _mm256_mask_cmpneq_epu32_mask(keep, j, self);
+    keep = _mm256_mask_cmplt_epu32_mask(keep, j, limit);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + found), _mm256_maskz_compress_epi32(keep, j));
+    if (d2) _mm512_storeu_pd(d2 + found, _mm512_maskz_compress_pd(keep, dist2));
+    found += static_cast<std::size_t>(__builtin_popcount(keep));
+  }
+  return found;
+}
+
+// In place: a round stores at or before the entries it has loaded.
+__attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_t* idx, const double* d2,
+                                                                     std::size_t n, double r2) {
+  const __m512d radius2 = _mm512_set1_pd(r2);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < n; k += 8) {
+    const auto live = static_cast<__mmask8>(n - k < 8 ? (1u << (n - k)) - 1u : 0xFFu);
+    const __m256i j = _mm256_maskz_loadu_epi32(live, idx + k);
+    const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, _mm512_maskz_loadu_pd(live, d2 + k), radius2, _CMP_LT_OQ);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(idx + kept), _mm256_maskz_compress_epi32(keep, j));
+    kept += static_cast<std::size_t>(__builtin_popcount(keep));
+  }
+  return kept;
+}
+
+bool cpu_has_avx512() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  return has;
+}
+
+#else
+
+bool cpu_has_avx512() { return false; }
+
+#endif
+
+}  // namespace
+
+bool vector_candidate_scan() { return allowed && cpu_has_avx512(); }
+
+void allow_vector_candidate_scan(bool allow) { allowed = allow; }
+
+std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
+                            const ScanTarget& target, std::uint32_t* out, double* d2) {
+#ifdef SPHDISK_X86_VECTOR_SCAN
+  if (vector_candidate_scan()) return scan_avx512(js, xs, s0, s1, target, out, d2);
+#endif
+  return scan_scalar(js, xs, s0, s1, target, out, d2);
+}
+
+std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
+#ifdef SPHDISK_X86_VECTOR_SCAN
+  if (vector_candidate_scan()) return keep_avx512(idx, d2, n, r2);
+#endif
+  return keep_scalar(idx, d2, n, r2);
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,45 @@
+#pragma once
+// The innermost loops of the 2D neighbour search: the candidates of a range of cell-grid slots that
+// lie within a radius of a point, appended in slot order (neighbour_lists.cpp), and the dropping
+// of listed candidates beyond a smaller radius. Scalar, each candidate costs ~20 instructions (a
+// store per candidate, the count advanced by the test: branch-free, not vectorisable); on CPUs with
+// AVX-512 eight candidates are tested at once and the accepted ones packed by compress
+// instructions (~3 instructions per candidate). The CPU is asked at run time, so the default
+// (portable) build uses them too. Both paths give the same lists and the same squared distances
+// bit for bit: the distances are formed by the same operations as norm2 (core/vec.hpp) with
+// floating-point contraction off in this file, and the tests compare the two.
+#include <cstddef>
+#include <cstdint>
+
+#include "core/vec.hpp"
+
+namespace sphdisk {
+
+// Room the scans may write past the entries they return (whole vectors of eight).
+constexpr std::size_t kScanSlack = 8;
+
+// What a scan accepts: |xs[s] - x|^2 < r2, index != self, index < limit.
+struct ScanTarget {
+  Vec<2> x;
+  double r2;
+  std::uint32_t self;   // UINT32_MAX: none
+  std::uint32_t limit;  // UINT32_MAX: none
+};
+
+// Appends the accepted candidates of slots [s0, s1) (indices js[s], positions xs[s]) to out, their
+// squared distances to d2 (unless null), in slot order; returns how many. out and d2 need room for
+// s1 - s0 + kScanSlack entries.
+std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
+                            const ScanTarget& target, std::uint32_t* out, double* d2);
+
+// Keeps the entries k of idx[0, n) with d2[k] < r2, in order, in place; returns how many. idx needs
+// room for n + kScanSlack entries.
+std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2);
+
+// Whether the scans use the vector instructions (the CPU has them and they are not switched off).
+bool vector_candidate_scan();
+// Switches the vector instructions off (false) or back on where the CPU has them: for the tests
+// and benchmarks that compare the two paths. Not to be called while a search runs.
+void allow_vector_candidate_scan(bool allow);
+
+}  // namespace sphdisk

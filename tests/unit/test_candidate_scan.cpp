@@ -1,0 +1,119 @@
+// The 2D candidate scan (neighbours/candidate_scan.hpp): its vector path (AVX-512, where the CPU
+// has it) must give the scalar path's candidates and squared distances bit for bit, at the radius
+// too, for rows of every length (the last round of eight masks its loads), and so must whole
+// neighbour lists built with either.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "neighbours/candidate_scan.hpp"
+#include "neighbours/neighbour_lists.hpp"
+#include "neighbours/pair_lists.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+struct Scanned {
+  std::vector<std::uint32_t> idx;
+  std::vector<double> d2;
+};
+
+Scanned scan(bool vector, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
+             std::uint32_t s1, const ScanTarget& t) {
+  allow_vector_candidate_scan(vector);
+  Scanned r;
+  r.idx.assign(s1 - s0 + kScanSlack, 0);
+  r.d2.assign(s1 - s0 + kScanSlack, 0.0);
+  const std::size_t n = scan_candidates(js.data(), xs.data(), s0, s1, t, r.idx.data(), r.d2.data());
+  allow_vector_candidate_scan(true);
+  r.idx.resize(n);
+  r.d2.resize(n);
+  return r;
+}
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+}  // namespace
+
+TEST(CandidateScan, VectorAndScalarPathsAgree) {
+  if (!vector_candidate_scan()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  // Positions on a lattice of 1/8, so many squared distances equal r2 exactly (1/8 and r2 = 1/4
+  // are exact); candidates are accepted only below r2.
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> cell(-6, 6);
+  std::vector<Vec<2>> xs(64);
+  std::vector<std::uint32_t> js(64);
+  for (std::size_t s = 0; s < xs.size(); ++s) {
+    xs[s] = Vec<2>{{0.125 * cell(rng), 0.125 * cell(rng)}};
+    js[s] = static_cast<std::uint32_t>((s * 37) % 64);
+  }
+  std::size_t at_radius = 0, accepted = 0;
+  for (const ScanTarget t : {ScanTarget{Vec<2>{{0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
+                             ScanTarget{Vec<2>{{0.125, -0.25}}, 0.25, 5, UINT32_MAX},
+                             ScanTarget{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}}) {
+    for (std::uint32_t s0 = 0; s0 < 9; ++s0)
+      for (std::uint32_t s1 = s0; s1 <= 40; ++s1) {
+        const Scanned v = scan(true, js, xs, s0, s1, t), s = scan(false, js, xs, s0, s1, t);
+        ASSERT_EQ(v.idx, s.idx) << "slots " << s0 << "-" << s1;
+        ASSERT_TRUE(same_bits(v.d2, s.d2)) << "slots " << s0 << "-" << s1;
+        accepted += s.idx.size();
+      }
+    for (std::size_t s = 0; s < xs.size(); ++s) at_radius += norm2(xs[s] - t.x) == t.r2;
+  }
+  EXPECT_GE(at_radius, 3u);  // the boundary case is exercised
+  EXPECT_GT(accepted, 1000u);
+
+  // Dropping beyond a smaller radius, in place, for every length.
+  std::vector<double> d2(40);
+  for (std::size_t k = 0; k < d2.size(); ++k) d2[k] = 0.0625 * static_cast<double>(k % 7);
+  for (std::size_t n = 0; n <= d2.size(); ++n) {
+    std::vector<std::uint32_t> a(n + kScanSlack), b(n + kScanSlack);
+    for (std::size_t k = 0; k < n; ++k) a[k] = b[k] = static_cast<std::uint32_t>(100 + k);
+    const std::size_t kept_vector = keep_within(a.data(), d2.data(), n, 0.25);
+    allow_vector_candidate_scan(false);
+    const std::size_t kept_scalar = keep_within(b.data(), d2.data(), n, 0.25);
+    allow_vector_candidate_scan(true);
+    ASSERT_EQ(kept_vector, kept_scalar) << n;
+    a.resize(kept_vector);
+    b.resize(kept_scalar);
+    ASSERT_EQ(a, b) << n;
+  }
+}
+
+// Gather lists with the h solve's settle (distances passed on, candidates beyond the kept radius
+// dropped) and half lists, each built with both paths.
+TEST(CandidateScan, SameListsWithEitherPath) {
+  if (!vector_candidate_scan()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  const auto p = test::random_particles<2>(5000, 12, true);
+  const auto grid = build_cell_grid(p.pos, p.id, 0.02);
+  std::vector<double> radius(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) radius[i] = 0.03 + 0.02 * static_cast<double>(i % 5) / 5.0;
+  const SettleRadius settle = [](std::size_t, std::span<const std::uint32_t> cand, std::span<const double> d2, double searched) {
+    EXPECT_EQ(cand.size(), d2.size());
+    return 0.8 * searched;  // drop the outer candidates
+  };
+  auto build = [&](bool vector) {
+    allow_vector_candidate_scan(vector);
+    NeighbourLists gather, half;
+    build_settled_neighbour_lists(grid, p.pos, radius, settle, gather, p.size());
+    std::vector<std::uint32_t> slot(p.size());
+    for (std::size_t s = 0; s < grid.sorted.size(); ++s) slot[grid.sorted[s]] = static_cast<std::uint32_t>(s);
+    build_half_neighbour_lists(grid, p.pos, 0.03, slot, p.size() / 2, half);
+    allow_vector_candidate_scan(true);
+    return std::pair{gather, half};
+  };
+  const auto [gv, hv] = build(true);
+  const auto [gs, hs] = build(false);
+  EXPECT_EQ(gv.offsets, gs.offsets);
+  EXPECT_EQ(gv.index, gs.index);
+  EXPECT_EQ(hv.offsets, hs.offsets);
+  EXPECT_EQ(hv.index, hs.index);
+  EXPECT_GT(gs.total(), 10 * p.size());
+  EXPECT_GT(hs.total(), 5 * p.size());
+}
