@@ -13,21 +13,6 @@ namespace {
 
 bool allowed = true;
 
-// Branch-free append: every candidate is written, the end advances only for accepted ones (about
-// half the candidates are accepted at random, so a branch would mispredict often).
-std::size_t scan_scalar(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
-                        const ScanTarget& t, std::uint32_t* out, double* d2) {
-  std::size_t found = 0;
-  for (std::uint32_t s = s0; s < s1; ++s) {
-    const std::uint32_t j = js[s];
-    const double dist2 = norm2(xs[s] - t.x);
-    out[found] = j;
-    if (d2) d2[found] = dist2;
-    found += static_cast<std::size_t>((dist2 < t.r2) & (j != t.self) & (j < t.limit));
-  }
-  return found;
-}
-
 std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
   std::size_t kept = 0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -44,7 +29,7 @@ std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, dou
 // front by compress and stored whole (the slack takes the rest). The last round masks its loads.
 __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::uint32_t* js, const Vec<2>* xs,
                                                                      std::uint32_t s0, std::uint32_t s1,
-                                                                     const ScanTarget& t, std::uint32_t* out,
+                                                                     const ScanTarget<2>& t, std::uint32_t* out,
                                                                      double* d2) {
   const __m512d x = _mm512_set1_pd(t.x[0]), y = _mm512_set1_pd(t.x[1]), r2 = _mm512_set1_pd(t.r2);
   const __m256i self = _mm256_set1_epi32(static_cast<int>(t.self));
@@ -111,11 +96,11 @@ bool vector_candidate_scan() { return allowed && cpu_has_avx512(); }
 void allow_vector_candidate_scan(bool allow) { allowed = allow; }
 
 std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
-                            const ScanTarget& target, std::uint32_t* out, double* d2) {
+                            const ScanTarget<2>& target, std::uint32_t* out, double* d2) {
 #ifdef SPHDISK_X86_VECTOR_SCAN
   if (vector_candidate_scan()) return scan_avx512(js, xs, s0, s1, target, out, d2);
 #endif
-  return scan_scalar(js, xs, s0, s1, target, out, d2);
+  return scan_candidates_scalar<2>(js, xs, s0, s1, target, out, d2);
 }
 
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {

@@ -19,8 +19,9 @@ namespace sphdisk {
 constexpr std::size_t kScanSlack = 8;
 
 // What a scan accepts: |xs[s] - x|^2 < r2, index != self, index < limit.
+template <int D>
 struct ScanTarget {
-  Vec<2> x;
+  Vec<D> x;
   double r2;
   std::uint32_t self;   // UINT32_MAX: none
   std::uint32_t limit;  // UINT32_MAX: none
@@ -30,7 +31,24 @@ struct ScanTarget {
 // squared distances to d2 (unless null), in slot order; returns how many. out and d2 need room for
 // s1 - s0 + kScanSlack entries.
 std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
-                            const ScanTarget& target, std::uint32_t* out, double* d2);
+                            const ScanTarget<2>& target, std::uint32_t* out, double* d2);
+
+// The scalar scan, in any dimension (scan_candidates' fallback; 3D's only path). Branch-free append:
+// every candidate is written, the end advances only for accepted ones (about half the candidates
+// are accepted at random, so a branch would mispredict often).
+template <int D>
+std::size_t scan_candidates_scalar(const std::uint32_t* js, const Vec<D>* xs, std::uint32_t s0, std::uint32_t s1,
+                                   const ScanTarget<D>& t, std::uint32_t* out, double* d2) {
+  std::size_t found = 0;
+  for (std::uint32_t s = s0; s < s1; ++s) {
+    const std::uint32_t j = js[s];
+    const double dist2 = norm2(xs[s] - t.x);
+    out[found] = j;
+    if (d2) d2[found] = dist2;
+    found += static_cast<std::size_t>((dist2 < t.r2) & (j != t.self) & (j < t.limit));
+  }
+  return found;
+}
 
 // Keeps the entries k of idx[0, n) with d2[k] < r2, in order, in place; returns how many. idx needs
 // room for n + kScanSlack entries.

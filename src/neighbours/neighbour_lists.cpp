@@ -46,26 +46,14 @@ struct CandidateFilter {
   std::vector<std::uint32_t> slot_prefix;  // slot_prefix[s]: slots before s that hold a candidate below `below`
 };
 
-// Appends the candidates of slots [s0, s1) that `target` accepts (centre x) to out, and their squared
-// distances to d2 unless null; returns how many. 2D: candidate_scan.cpp (vectorised where the CPU
-// allows); other dimensions here, the same tests. out and d2 need room for s1 - s0 + kScanSlack.
+// Appends the candidates of slots [s0, s1) that `target` accepts to out, and their squared distances
+// to d2 unless null; returns how many (candidate_scan.hpp: vectorised in 2D where the CPU allows).
+// out and d2 need room for s1 - s0 + kScanSlack.
 template <int D>
-std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const Vec<D>& x, ScanTarget target,
+std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const ScanTarget<D>& target,
                      std::uint32_t* out, double* d2) {
-  if constexpr (D == 2) {
-    target.x = x;
-    return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
-  } else {
-    std::size_t found = 0;
-    for (std::uint32_t s = s0; s < s1; ++s) {  // branch-free append (candidate_scan.cpp)
-      const std::uint32_t j = grid.sorted[s];
-      const double dist2 = norm2(grid.sorted_pos[s] - x);
-      out[found] = j;
-      if (d2) d2[found] = dist2;
-      found += static_cast<std::size_t>((dist2 < target.r2) & (j != target.self) & (j < target.limit));
-    }
-    return found;
-  }
+  if constexpr (D == 2) return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
+  else return scan_candidates_scalar<D>(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
 }
 
 // Lists of particles [first, last) (list k is particle first + k).
@@ -113,7 +101,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         const double r2 = radius * radius;
         // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D). The index
         // bound is tested only in the filtered search's rows (below is UINT32_MAX otherwise).
-        const ScanTarget target{Vec<2>{}, r2, accept.self(i), std::min(accept.limit(i), below)};
+        const ScanTarget<D> target{xi, r2, accept.self(i), std::min(accept.limit(i), below)};
         const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
           if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
           room_for(s1 - s0 + kScanSlack);
@@ -121,7 +109,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
           if constexpr (kDistances)
             if (d2.size() < found + (s1 - s0) + kScanSlack) d2.resize(2 * (found + (s1 - s0) + kScanSlack));
           double* out_d2 = kDistances ? d2.data() + found : nullptr;
-          used += scan_row<D>(grid, s0, s1, xi, target, idx.data() + used, out_d2);
+          used += scan_row<D>(grid, s0, s1, target, idx.data() + used, out_d2);
         };
         if constexpr (Accept::kHalf) {
           const std::uint32_t own = accept.slot_of(i);

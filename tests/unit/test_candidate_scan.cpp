@@ -23,7 +23,7 @@ struct Scanned {
 };
 
 Scanned scan(bool vector, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
-             std::uint32_t s1, const ScanTarget& t) {
+             std::uint32_t s1, const ScanTarget<2>& t) {
   allow_vector_candidate_scan(vector);
   Scanned r;
   r.idx.assign(s1 - s0 + kScanSlack, 0);
@@ -54,9 +54,9 @@ TEST(CandidateScan, VectorAndScalarPathsAgree) {
     js[s] = static_cast<std::uint32_t>((s * 37) % 64);
   }
   std::size_t at_radius = 0, accepted = 0;
-  for (const ScanTarget t : {ScanTarget{Vec<2>{{0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
-                             ScanTarget{Vec<2>{{0.125, -0.25}}, 0.25, 5, UINT32_MAX},
-                             ScanTarget{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}}) {
+  for (const ScanTarget<2> t : {ScanTarget<2>{Vec<2>{{0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
+                             ScanTarget<2>{Vec<2>{{0.125, -0.25}}, 0.25, 5, UINT32_MAX},
+                             ScanTarget<2>{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}}) {
     for (std::uint32_t s0 = 0; s0 < 9; ++s0)
       for (std::uint32_t s1 = s0; s1 <= 40; ++s1) {
         const Scanned v = scan(true, js, xs, s0, s1, t), s = scan(false, js, xs, s0, s1, t);
