@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "integrate/integrator.hpp"
+#include "core/vector_isa.hpp"
 #include "neighbours/candidate_scan.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -148,18 +149,18 @@ void BM_AdaptiveStep(benchmark::State& state) {
   }
 }
 
-// The same with the candidate scan's vector instructions switched off (neighbours/candidate_scan.hpp);
-// equal to the above where the CPU lacks them.
-void BM_NeighbourSearchScalarScan(benchmark::State& state) {
-  allow_vector_candidate_scan(false);
+// The same with AVX-512 switched off in the hand-dispatched loops (core/vector_isa.hpp: the
+// candidate scan, the h solve's kernel terms); equal to the above where the CPU lacks it.
+void BM_NeighbourSearchBaseline(benchmark::State& state) {
+  allow_avx512(false);
   BM_NeighbourSearch(state);
-  allow_vector_candidate_scan(true);
+  allow_avx512(true);
 }
 
-void BM_AdaptiveStepScalarScan(benchmark::State& state) {
-  allow_vector_candidate_scan(false);
+void BM_AdaptiveStepBaseline(benchmark::State& state) {
+  allow_avx512(false);
   BM_AdaptiveStep(state);
-  allow_vector_candidate_scan(true);
+  allow_avx512(true);
 }
 
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
@@ -169,8 +170,8 @@ SPHDISK_PHASE(BM_Density);
 SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);
 SPHDISK_PHASE(BM_AdaptiveStep);
-SPHDISK_PHASE(BM_NeighbourSearchScalarScan);
-SPHDISK_PHASE(BM_AdaptiveStepScalarScan);
+SPHDISK_PHASE(BM_NeighbourSearchBaseline);
+SPHDISK_PHASE(BM_AdaptiveStepBaseline);
 
 }  // namespace
 

@@ -1,17 +1,16 @@
 #include "neighbours/candidate_scan.hpp"
 
+#include "core/vector_isa.hpp"
+
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): a product added to another must not be
 // fused in one path and not the other, or the two would disagree on candidates at the radius.
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef SPHDISK_X86_AVX512_DISPATCH
 #include <immintrin.h>
-#define SPHDISK_X86_VECTOR_SCAN 1
 #endif
 
 namespace sphdisk {
 
 namespace {
-
-bool allowed = true;
 
 std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
   std::size_t kept = 0;
@@ -22,7 +21,7 @@ std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, dou
   return kept;
 }
 
-#ifdef SPHDISK_X86_VECTOR_SCAN
+#ifdef SPHDISK_X86_AVX512_DISPATCH
 
 // Eight candidates per round: positions (x, y interleaved) loaded as two vectors and split into
 // x and y by permutes, the tests as one mask, the accepted indices and distances packed to the
@@ -78,34 +77,21 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_
   return kept;
 }
 
-bool cpu_has_avx512() {
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-  return has;
-}
-
-#else
-
-bool cpu_has_avx512() { return false; }
-
 #endif
 
 }  // namespace
 
-bool vector_candidate_scan() { return allowed && cpu_has_avx512(); }
-
-void allow_vector_candidate_scan(bool allow) { allowed = allow; }
-
 std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
                             const ScanTarget<2>& target, std::uint32_t* out, double* d2) {
-#ifdef SPHDISK_X86_VECTOR_SCAN
-  if (vector_candidate_scan()) return scan_avx512(js, xs, s0, s1, target, out, d2);
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+  if (use_avx512()) return scan_avx512(js, xs, s0, s1, target, out, d2);
 #endif
   return scan_candidates_scalar<2>(js, xs, s0, s1, target, out, d2);
 }
 
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
-#ifdef SPHDISK_X86_VECTOR_SCAN
-  if (vector_candidate_scan()) return keep_avx512(idx, d2, n, r2);
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+  if (use_avx512()) return keep_avx512(idx, d2, n, r2);
 #endif
   return keep_scalar(idx, d2, n, r2);
 }

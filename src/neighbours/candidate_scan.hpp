@@ -4,8 +4,8 @@
 // of listed candidates beyond a smaller radius. Scalar, each candidate costs ~20 instructions (a
 // store per candidate, the count advanced by the test: branch-free, not vectorisable); on CPUs with
 // AVX-512 eight candidates are tested at once and the accepted ones packed by compress
-// instructions (~3 instructions per candidate). The CPU is asked at run time, so the default
-// (portable) build uses them too. Both paths give the same lists and the same squared distances
+// instructions (~3 instructions per candidate). The CPU is asked at run time (core/vector_isa.hpp),
+// so the default (portable) build uses them too. Both paths give the same lists and the same squared distances
 // bit for bit: the distances are formed by the same operations as norm2 (core/vec.hpp) with
 // floating-point contraction off in this file, and the tests compare the two.
 #include <cstddef>
@@ -53,11 +53,5 @@ std::size_t scan_candidates_scalar(const std::uint32_t* js, const Vec<D>* xs, st
 // Keeps the entries k of idx[0, n) with d2[k] < r2, in order, in place; returns how many. idx needs
 // room for n + kScanSlack entries.
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2);
-
-// Whether the scans use the vector instructions (the CPU has them and they are not switched off).
-bool vector_candidate_scan();
-// Switches the vector instructions off (false) or back on where the CPU has them: for the tests
-// and benchmarks that compare the two paths. Not to be called while a search runs.
-void allow_vector_candidate_scan(bool allow);
 
 }  // namespace sphdisk

@@ -27,6 +27,7 @@
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/neighbour_lists.hpp"
+#include "physics/kernel_terms.hpp"
 #include "physics/kernels.hpp"
 
 namespace sphdisk {
@@ -103,8 +104,8 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   const double mi = p.mass[i];
   // rho(h) and d rho/dh: sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)) (the latter is
   // -h^(D+1)/sigma d rho/dh). The kernel terms first, candidate by candidate into two buffers: a loop
-  // without a sum, which the compiler vectorises (with the sums in it, it did not: ~14 instructions
-  // per candidate for w alone). Then the sums, in four interleaved partial sums added in a fixed
+  // without a sum, which vectorises (kernel_terms.hpp; with the sums in it, it did not: ~14
+  // instructions per candidate for w alone). Then the sums, in four interleaved partial sums added in a fixed
   // order (an ordered double sum cannot use vector instructions).
   thread_local std::vector<double> w_buffer, dw_buffer;
   double* wq = scratch_for(w_buffer, cand.size());
@@ -112,11 +113,7 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   const auto sums_at = [&](double inv_h, auto uniform_c) {
     constexpr bool kUniform = decltype(uniform_c)::value;
     const std::size_t n = cand.size();
-    for (std::size_t k = 0; k < n; ++k) {
-      const double q = dist[k] * inv_h, w = K::w(q);
-      wq[k] = w;
-      dwq[k] = D * w + q * K::dw(q);
-    }
+    kernel_terms<K, D>(dist, inv_h, n, wq, dwq);
     const auto m_of = [&](std::size_t k) {
       if constexpr (kUniform) return 1.0;
       else return mass[k];

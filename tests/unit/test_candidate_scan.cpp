@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "core/vector_isa.hpp"
 #include "neighbours/candidate_scan.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
@@ -24,12 +25,12 @@ struct Scanned {
 
 Scanned scan(bool vector, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
              std::uint32_t s1, const ScanTarget<2>& t) {
-  allow_vector_candidate_scan(vector);
+  allow_avx512(vector);
   Scanned r;
   r.idx.assign(s1 - s0 + kScanSlack, 0);
   r.d2.assign(s1 - s0 + kScanSlack, 0.0);
   const std::size_t n = scan_candidates(js.data(), xs.data(), s0, s1, t, r.idx.data(), r.d2.data());
-  allow_vector_candidate_scan(true);
+  allow_avx512(true);
   r.idx.resize(n);
   r.d2.resize(n);
   return r;
@@ -42,7 +43,7 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 }  // namespace
 
 TEST(CandidateScan, VectorAndScalarPathsAgree) {
-  if (!vector_candidate_scan()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   // Positions on a lattice of 1/8, so many squared distances equal r2 exactly (1/8 and r2 = 1/4
   // are exact); candidates are accepted only below r2.
   std::mt19937_64 rng(11);
@@ -76,9 +77,9 @@ TEST(CandidateScan, VectorAndScalarPathsAgree) {
     std::vector<std::uint32_t> a(n + kScanSlack), b(n + kScanSlack);
     for (std::size_t k = 0; k < n; ++k) a[k] = b[k] = static_cast<std::uint32_t>(100 + k);
     const std::size_t kept_vector = keep_within(a.data(), d2.data(), n, 0.25);
-    allow_vector_candidate_scan(false);
+    allow_avx512(false);
     const std::size_t kept_scalar = keep_within(b.data(), d2.data(), n, 0.25);
-    allow_vector_candidate_scan(true);
+    allow_avx512(true);
     ASSERT_EQ(kept_vector, kept_scalar) << n;
     a.resize(kept_vector);
     b.resize(kept_scalar);
@@ -89,7 +90,7 @@ TEST(CandidateScan, VectorAndScalarPathsAgree) {
 // Gather lists with the h solve's settle (distances passed on, candidates beyond the kept radius
 // dropped) and half lists, each built with both paths.
 TEST(CandidateScan, SameListsWithEitherPath) {
-  if (!vector_candidate_scan()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   const auto p = test::random_particles<2>(5000, 12, true);
   const auto grid = build_cell_grid(p.pos, p.id, 0.02);
   std::vector<double> radius(p.size());
@@ -99,13 +100,13 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     return 0.8 * searched;  // drop the outer candidates
   };
   auto build = [&](bool vector) {
-    allow_vector_candidate_scan(vector);
+    allow_avx512(vector);
     NeighbourLists gather, half;
     build_settled_neighbour_lists(grid, p.pos, radius, settle, gather, p.size());
     std::vector<std::uint32_t> slot(p.size());
     for (std::size_t s = 0; s < grid.sorted.size(); ++s) slot[grid.sorted[s]] = static_cast<std::uint32_t>(s);
     build_half_neighbour_lists(grid, p.pos, 0.03, slot, p.size() / 2, half);
-    allow_vector_candidate_scan(true);
+    allow_avx512(true);
     return std::pair{gather, half};
   };
   const auto [gv, hv] = build(true);

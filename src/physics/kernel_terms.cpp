@@ -1,0 +1,53 @@
+#include "physics/kernel_terms.hpp"
+
+#include "core/vector_isa.hpp"
+#include "physics/kernels.hpp"
+
+// Compiled with -ffp-contract=off (src/CMakeLists.txt): the AVX-512 build of the loop could fuse
+// D w + q w' where the baseline one cannot, and the two must give the same bits.
+namespace sphdisk {
+
+namespace {
+
+template <class K, int D>
+[[gnu::always_inline]] inline void terms(const double* __restrict dist, double inv_h, std::size_t n, double* __restrict w,
+                                         double* __restrict dw) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double q = dist[k] * inv_h, wk = K::w(q);
+    w[k] = wk;
+    dw[k] = D * wk + q * K::dw(q);
+  }
+}
+
+template <class K, int D>
+void terms_baseline(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
+  terms<K, D>(dist, inv_h, n, w, dw);
+}
+
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+template <class K, int D>
+[[gnu::target("avx512f")]] void terms_avx512(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
+  terms<K, D>(dist, inv_h, n, w, dw);
+}
+#endif
+
+}  // namespace
+
+template <class K, int D>
+void kernel_terms(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+  if (use_avx512()) return terms_avx512<K, D>(dist, inv_h, n, w, dw);
+#endif
+  terms_baseline<K, D>(dist, inv_h, n, w, dw);
+}
+
+#define SPHDISK_KERNEL_TERMS(K)                                                                  \
+  template void kernel_terms<K, 1>(const double*, double, std::size_t, double*, double*);      \
+  template void kernel_terms<K, 2>(const double*, double, std::size_t, double*, double*);      \
+  template void kernel_terms<K, 3>(const double*, double, std::size_t, double*, double*);
+SPHDISK_KERNEL_TERMS(CubicSpline)
+SPHDISK_KERNEL_TERMS(WendlandC2)
+SPHDISK_KERNEL_TERMS(WendlandC4)
+#undef SPHDISK_KERNEL_TERMS
+
+}  // namespace sphdisk
