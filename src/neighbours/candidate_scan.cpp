@@ -77,6 +77,50 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_
   return kept;
 }
 
+// The meeting point by counting the earlier entries eight at a time (their slots gathered: no chain
+// of dependent loads as in a bisection; the list is sorted, so the count stops at the first vector
+// that is not all earlier), then the earlier entries' positions and h gathered and tested.
+__attribute__((target("avx512f,avx512vl"))) EarlierPartners earlier_avx512(const std::uint32_t* js, std::size_t n,
+                                                                            std::uint32_t slot_i,
+                                                                            const std::uint32_t* slot, const Vec<2>& xi,
+                                                                            const Vec<2>* pos, const double* h,
+                                                                            std::uint32_t limit,
+                                                                            std::uint32_t* lacking) {
+  EarlierPartners r{0, 0};
+  const __m256i own = _mm256_set1_epi32(static_cast<int>(slot_i));
+  for (std::size_t k = 0; k < n; k += 8) {
+    const auto live = static_cast<__mmask8>(n - k < 8 ? (1u << (n - k)) - 1u : 0xFFu);
+    const __m256i j = _mm256_maskz_loadu_epi32(live, js + k);
+    const __m256i s = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), live, j, reinterpret_cast<const int*>(slot), 4);
+    const __mmask8 earlier = _mm256_mask_cmplt_epu32_mask(live, s, own);
+    r.count += static_cast<std::size_t>(__builtin_popcount(earlier));
+    if (earlier != live) break;
+  }
+  const __m512d x = _mm512_set1_pd(xi[0]), y = _mm512_set1_pd(xi[1]), four = _mm512_set1_pd(4.0);
+  const __m256i bound = _mm256_set1_epi32(static_cast<int>(limit));
+  const double* base = reinterpret_cast<const double*>(pos);
+  for (std::size_t k = 0; k < r.count; k += 8) {
+    const auto live = static_cast<__mmask8>(r.count - k < 8 ? (1u << (r.count - k)) - 1u : 0xFFu);
+    const __m256i j = _mm256_maskz_loadu_epi32(live, js + k);
+    const __mmask8 wanted = _mm256_mask_cmplt_epu32_mask(live, j, bound);
+    const __m512i j64 = _mm512_maskz_cvtepu32_epi64(0xFF, j);  // (maskz: GCC 12 warns on the plain form)
+    const __m512i twice = _mm512_add_epi64(j64, j64);  // index of x_j among the doubles of pos
+    const __m512d xj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, twice, base, 8);
+    const __m512d yj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, twice, base + 1, 8);
+    const __m512d hj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, j64, h, 8);
+    const __m512d dx = _mm512_sub_pd(x, xj), dy = _mm512_sub_pd(y, yj);
+#ifdef __FMA__
+    const __m512d dist2 = _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));  // as norm2 with FMA
+#else
+    const __m512d dist2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+#endif
+    const __mmask8 lack = _mm512_mask_cmp_pd_mask(wanted, dist2, _mm512_mul_pd(_mm512_mul_pd(four, hj), hj), _CMP_GE_OQ);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(lacking + r.lacking), _mm256_maskz_compress_epi32(lack, j));
+    r.lacking += static_cast<std::size_t>(__builtin_popcount(lack));
+  }
+  return r;
+}
+
 #endif
 
 }  // namespace
@@ -87,6 +131,15 @@ std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint
   if (use_avx512()) return scan_avx512(js, xs, s0, s1, target, out, d2);
 #endif
   return scan_candidates_scalar<2>(js, xs, s0, s1, target, out, d2);
+}
+
+EarlierPartners earlier_partners(const std::uint32_t* js, std::size_t n, std::uint32_t slot_i, const std::uint32_t* slot,
+                                 const Vec<2>& xi, const Vec<2>* pos, const double* h, std::uint32_t limit,
+                                 std::uint32_t* lacking) {
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+  if (use_avx512()) return earlier_avx512(js, n, slot_i, slot, xi, pos, h, limit, lacking);
+#endif
+  return earlier_partners_scalar<2>(js, n, slot_i, slot, xi, pos, h, limit, lacking);
 }
 
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {

@@ -1,13 +1,15 @@
 #pragma once
 // The innermost loops of the 2D neighbour search: the candidates of a range of cell-grid slots that
-// lie within a radius of a point, appended in slot order (neighbour_lists.cpp), and the dropping
-// of listed candidates beyond a smaller radius. Scalar, each candidate costs ~20 instructions (a
+// lie within a radius of a point, appended in slot order (neighbour_lists.cpp), the dropping of
+// listed candidates beyond a smaller radius, and, for the half lists (pair_lists.cpp), where a
+// gather list meets its own particle and which earlier partners lack it. Scalar, each candidate costs ~20 instructions (a
 // store per candidate, the count advanced by the test: branch-free, not vectorisable); on CPUs with
 // AVX-512 eight candidates are tested at once and the accepted ones packed by compress
 // instructions (~3 instructions per candidate). The CPU is asked at run time (core/vector_isa.hpp),
 // so the default (portable) build uses them too. Both paths give the same lists and the same squared distances
 // bit for bit: the distances are formed by the same operations as norm2 (core/vec.hpp) with
 // floating-point contraction off in this file, and the tests compare the two.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -48,6 +50,34 @@ std::size_t scan_candidates_scalar(const std::uint32_t* js, const Vec<D>* xs, st
     found += static_cast<std::size_t>((dist2 < t.r2) & (j != t.self) & (j < t.limit));
   }
   return found;
+}
+
+// Where particle i's gather list js[0, n) (in cell order) meets i: its first `count` entries come
+// before i in cell order (slot[j] < slot_i). Of those below `limit`, the ones whose own gather list
+// lacks i (|x_i - x_j|^2 >= 4 h_j^2: i lies outside j's support, the test of j's own search) are
+// appended to `lacking` (room for count + kScanSlack entries), `lacking` of them.
+struct EarlierPartners {
+  std::size_t count, lacking;
+};
+
+EarlierPartners earlier_partners(const std::uint32_t* js, std::size_t n, std::uint32_t slot_i, const std::uint32_t* slot,
+                                 const Vec<2>& xi, const Vec<2>* pos, const double* h, std::uint32_t limit,
+                                 std::uint32_t* lacking);
+
+// The scalar version, in any dimension (earlier_partners' fallback; 3D's only path): the meeting
+// point by bisection, the test branch-free (every entry written, the end advanced for lacking ones).
+template <int D>
+EarlierPartners earlier_partners_scalar(const std::uint32_t* js, std::size_t n, std::uint32_t slot_i,
+                                        const std::uint32_t* slot, const Vec<D>& xi, const Vec<D>* pos, const double* h,
+                                        std::uint32_t limit, std::uint32_t* lacking) {
+  const std::uint32_t* later = std::partition_point(js, js + n, [&](std::uint32_t j) { return slot[j] < slot_i; });
+  EarlierPartners r{static_cast<std::size_t>(later - js), 0};
+  for (std::size_t k = 0; k < r.count; ++k) {
+    const std::uint32_t j = js[k];
+    lacking[r.lacking] = j;
+    r.lacking += static_cast<std::size_t>((j < limit) & (norm2(xi - pos[j]) >= 4.0 * h[j] * h[j]));
+  }
+  return r;
 }
 
 // Keeps the entries k of idx[0, n) with d2[k] < r2, in order, in place; returns how many. idx needs

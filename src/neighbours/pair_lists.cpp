@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/snug_resize.hpp"
+#include "neighbours/candidate_scan.hpp"
 
 namespace sphdisk {
 
@@ -156,16 +157,18 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }
 }
 
-// The half lists of the pairs in `src` (lists of the particles [0, src.size()), each in cell order
-// as the neighbour search gives them): an entry j of i's list that comes later in cell order stays
-// in i's half list (in list order); an earlier one is handed to j (transposed) where
-// transpose(i, j) says that j's own list lacks i, else dropped (j has it). Handed-over partners
+// The half lists of the pairs in the gather lists `src` (lists of the particles [0, src.size()),
+// each in cell order as the neighbour search gives them, entry j of i's list within 2 h_i): an entry
+// j of i's list that comes later in cell order stays in i's half list (in list order); an earlier
+// one is handed to j (transposed) where j's own list lacks i (|x_i - x_j| >= 2 h_j,
+// earlier_partners in candidate_scan.hpp), else dropped (j has it). Handed-over partners
 // follow j's own, in cell order. Pairs of two unwritable particles are dropped. within_tile(i):
 // whether i's whole list lies within one tile length of it, so that every partner is in the same or
 // an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and the tiles need not
 // be compared (all but the ~1% widest supports).
-template <int D, class Transpose, class WithinTile>
-void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& transpose, WithinTile&& within_tile) {
+template <int D, class WithinTile>
+void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
+                     WithinTile&& within_tile) {
   const std::size_t n = out.order.size();
   const std::size_t m = out.writable;
   const std::size_t ns = src.size();
@@ -179,23 +182,30 @@ void half_lists_from(const NeighbourLists& src, PairLists& out, Transpose&& tran
   std::vector<Block> blocks(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
+    std::vector<std::uint32_t> lacking;  // of one list
     const std::size_t i0 = b * kBlock, i1 = std::min(ns, i0 + kBlock);
     B.near_start.assign(1, 0);
     B.far_start.assign(1, 0);
     for (std::size_t i = i0; i < i1; ++i) {
-      const std::uint32_t slot_i = slot[i];
       const bool i_writable = i < m;
       // The list is in cell order (the search scans rows of cells in order), so its later
-      // partners are its tail, found by bisection on their slots.
+      // partners are its tail; the earlier ones are handed to them where their own lists lack i
+      // (rare). Pairs of two unwritable particles are left out.
       const std::uint32_t* first = src.begin(i);
       const std::uint32_t* last = src.end(i);
       assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
-      const std::uint32_t* later = std::partition_point(first, last, [&](std::uint32_t j) { return slot[j] < slot_i; });
-      // Earlier partners: handed to them where their own lists lack i (rare).
-      for (const std::uint32_t* it = first; it != later; ++it) {
-        const std::uint32_t j = *it;
-        if ((i_writable | (j < m)) && transpose(i, j))
-          B.transposed.push_back({j, static_cast<std::uint32_t>(i), !tiles_adjacent<D>(tile + D * i, tile + D * j)});
+      const auto listed = static_cast<std::size_t>(last - first);
+      if (lacking.size() < listed + kScanSlack) lacking.resize(2 * (listed + kScanSlack));
+      const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);
+      EarlierPartners e;
+      if constexpr (D == 2)
+        e = earlier_partners(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, lacking.data());
+      else
+        e = earlier_partners_scalar<D>(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, lacking.data());
+      const std::uint32_t* later = first + e.count;
+      for (std::size_t k = 0; k < e.lacking; ++k) {
+        const std::uint32_t j = lacking[k];
+        B.transposed.push_back({j, static_cast<std::uint32_t>(i), !tiles_adjacent<D>(tile + D * i, tile + D * j)});
       }
       // Later partners stay: all of them near (copied as they are) for a writable particle within
       // one tile length; else sorted into near and far, and pairs of two unwritable ones dropped.
@@ -276,9 +286,7 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
   // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
   // i's list reaches 2 h_i; the margin covers the round-off of the cell coordinates.
   const double within = (1.0 - 1e-9) * out.tile_length;
-  half_lists_from<D>(
-      gather, out, [&](std::size_t i, std::uint32_t j) { return norm2(pos[i] - pos[j]) >= 4.0 * h[j] * h[j]; },
-      [&](std::size_t i) { return 2.0 * h[i] < within; });
+  half_lists_from<D>(gather, pos, h, out, [&](std::size_t i) { return 2.0 * h[i] < within; });
 }
 
 namespace {

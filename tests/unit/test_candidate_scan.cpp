@@ -4,7 +4,9 @@
 // neighbour lists built with either.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <tuple>
 #include <random>
 #include <vector>
 
@@ -87,6 +89,50 @@ TEST(CandidateScan, VectorAndScalarPathsAgree) {
   }
 }
 
+// Where a gather list meets its particle and which earlier partners lack it: lists of every length
+// (the last round of eight masks its loads), meeting points anywhere in them, partners exactly at
+// their support's edge (|x_i - x_j| = 2 h_j, which the partner's list lacks) and index limits.
+TEST(CandidateScan, EarlierPartnersAgree) {
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> cell(-4, 4);
+  const std::size_t n = 48;
+  std::vector<Vec<2>> pos(n);
+  std::vector<double> h(n);
+  std::vector<std::uint32_t> slot(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    pos[j] = Vec<2>{{0.125 * cell(rng), 0.125 * cell(rng)}};
+    h[j] = 0.0625 * static_cast<double>(1 + j % 6);  // 2 h_j on the same 1/8 lattice: exact edges
+    slot[j] = static_cast<std::uint32_t>((j * 29) % n);
+  }
+  pos[0] = Vec<2>{{0.0, 0.0}};  // exactly 2 h_j from x_i = (1/8, 0): h_0 = h_6 = 1/16
+  pos[6] = Vec<2>{{0.125, 0.125}};
+  std::size_t lacking_total = 0, at_edge = 0;
+  for (std::size_t len = 0; len <= 40; ++len) {
+    std::vector<std::uint32_t> js(len);
+    for (std::size_t k = 0; k < len; ++k) js[k] = static_cast<std::uint32_t>((k * 7 + len) % n);
+    std::sort(js.begin(), js.end(), [&](std::uint32_t a, std::uint32_t b) { return slot[a] < slot[b]; });
+    for (const std::uint32_t slot_i : {0u, 5u, 17u, 30u, 47u, 48u})
+      for (const std::uint32_t limit : {UINT32_MAX, 20u}) {
+        const Vec<2> xi{{0.125, 0.0}};
+        std::vector<std::uint32_t> a(len + kScanSlack), b(len + kScanSlack);
+        const EarlierPartners v = earlier_partners(js.data(), len, slot_i, slot.data(), xi, pos.data(), h.data(), limit, a.data());
+        allow_avx512(false);
+        const EarlierPartners s = earlier_partners(js.data(), len, slot_i, slot.data(), xi, pos.data(), h.data(), limit, b.data());
+        allow_avx512(true);
+        ASSERT_EQ(v.count, s.count) << len << " " << slot_i;
+        ASSERT_EQ(v.lacking, s.lacking) << len << " " << slot_i;
+        a.resize(v.lacking);
+        b.resize(s.lacking);
+        ASSERT_EQ(a, b) << len << " " << slot_i;
+        lacking_total += s.lacking;
+      }
+  }
+  for (std::size_t j = 0; j < n; ++j) at_edge += norm2(Vec<2>{{0.125, 0.0}} - pos[j]) == 4.0 * h[j] * h[j];
+  EXPECT_GT(lacking_total, 100u);
+  EXPECT_GE(at_edge, 2u);  // the edge case is exercised
+}
+
 // Gather lists with the h solve's settle (distances passed on, candidates beyond the kept radius
 // dropped) and half lists, each built with both paths.
 TEST(CandidateScan, SameListsWithEitherPath) {
@@ -106,11 +152,21 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     std::vector<std::uint32_t> slot(p.size());
     for (std::size_t s = 0; s < grid.sorted.size(); ++s) slot[grid.sorted[s]] = static_cast<std::uint32_t>(s);
     build_half_neighbour_lists(grid, p.pos, 0.03, slot, p.size() / 2, half);
+    PairLists from_gather;  // half lists assembled from the gather lists, supports h = radius / 2
+    std::vector<double> h(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) h[i] = 0.4 * radius[i];  // the settled radius, 0.8 x searched
+    build_tile_order(grid, 4, p.size() * 3 / 4, from_gather);
+    build_half_lists_from_gather(gather, p.pos, h, from_gather);
     allow_avx512(true);
-    return std::pair{gather, half};
+    return std::tuple{gather, half, from_gather};
   };
-  const auto [gv, hv] = build(true);
-  const auto [gs, hs] = build(false);
+  const auto [gv, hv, pv] = build(true);
+  const auto [gs, hs, ps] = build(false);
+  EXPECT_EQ(pv.near.offsets, ps.near.offsets);
+  EXPECT_EQ(pv.near.index, ps.near.index);
+  EXPECT_EQ(pv.far.offsets, ps.far.offsets);
+  EXPECT_EQ(pv.far.index, ps.far.index);
+  EXPECT_GT(ps.total(), 5 * p.size());
   EXPECT_EQ(gv.offsets, gs.offsets);
   EXPECT_EQ(gv.index, gs.index);
   EXPECT_EQ(hv.offsets, hs.offsets);
