@@ -2,13 +2,13 @@
 // The innermost loops of the 2D neighbour search: the candidates of a range of cell-grid slots that
 // lie within a radius of a point, appended in slot order (neighbour_lists.cpp), the dropping of
 // listed candidates beyond a smaller radius, and, for the half lists (pair_lists.cpp), where a
-// gather list meets its own particle and which earlier partners lack it. Scalar, each candidate costs ~20 instructions (a
-// store per candidate, the count advanced by the test: branch-free, not vectorisable); on CPUs with
-// AVX-512 eight candidates are tested at once and the accepted ones packed by compress
-// instructions (~3 instructions per candidate). The CPU is asked at run time (core/vector_isa.hpp),
-// so the default (portable) build uses them too. Both paths give the same lists and the same squared distances
-// bit for bit: the distances are formed by the same operations as norm2 (core/vec.hpp) with
-// floating-point contraction off in this file, and the tests compare the two.
+// gather list meets its own particle and which earlier partners lack it. In scalar code a candidate
+// costs ~20 instructions (a store per candidate, the count advanced by the test: branch-free, not
+// vectorisable); on CPUs with AVX-512 eight are tested at once and the accepted ones packed by
+// compress instructions (~3 instructions per candidate). The CPU is asked at run time
+// (core/vector_isa.hpp), so the default (portable) build uses them too. Both paths give the same
+// results bit for bit: squared distances are formed by the same operations as norm2 (core/vec.hpp),
+// with floating-point contraction off in this file, and the tests compare the two.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>

@@ -44,6 +44,39 @@ struct LaterOfWritablePairs {
 struct CandidateFilter {
   std::uint32_t below = UINT32_MAX;
   std::vector<std::uint32_t> slot_prefix;  // slot_prefix[s]: slots before s that hold a candidate below `below`
+  // 2D: a summed-area table of the candidates per cell ((dims[0] + 1) x (dims[1] + 1), x fastest),
+  // so that a particle with none in the square of cells within its reach is skipped before its
+  // rows are formed (with block timesteps most inactive particles lie far from every active one).
+  std::vector<std::uint32_t> cell_sum;
+
+  template <int D>
+  void count_per_cell(const CellGrid<D>& grid) {
+    if constexpr (D == 2) {
+      const std::size_t nx = static_cast<std::size_t>(grid.dims[0]), ny = static_cast<std::size_t>(grid.dims[1]), w = nx + 1;
+      cell_sum.assign(w * (ny + 1), 0);
+      for (std::size_t y = 0; y < ny; ++y)
+        for (std::size_t x = 0; x < nx; ++x) {
+          const std::size_t c = y * nx + x;  // CellGrid::linear
+          const std::uint32_t here = slot_prefix[grid.offsets[c + 1]] - slot_prefix[grid.offsets[c]];
+          cell_sum[(y + 1) * w + x + 1] = here + cell_sum[y * w + x + 1] + cell_sum[(y + 1) * w + x] - cell_sum[y * w + x];
+        }
+    }
+  }
+
+  // Whether any candidate lies in the cells within `radius` of x (2D with a table; else true).
+  template <int D>
+  bool any_within(const CellGrid<D>& grid, const Vec<D>& x, double radius) const {
+    if constexpr (D == 2) {
+      if (cell_sum.empty()) return true;
+      const int reach = cells_within(grid, radius);
+      const auto lo = [&](int k) { return static_cast<std::size_t>(std::max(grid.coord(x[k], k) - reach, 0)); };
+      const auto hi = [&](int k) { return static_cast<std::size_t>(std::min(grid.coord(x[k], k) + reach, grid.dims[static_cast<std::size_t>(k)] - 1)) + 1; };
+      const std::size_t x0 = lo(0), x1 = hi(0), y0 = lo(1), y1 = hi(1), w = static_cast<std::size_t>(grid.dims[0]) + 1;
+      return cell_sum[y1 * w + x1] - cell_sum[y0 * w + x1] - cell_sum[y1 * w + x0] + cell_sum[y0 * w + x0] != 0;
+    } else {
+      return true;
+    }
+  }
 };
 
 // Appends the candidates of slots [s0, s1) that `target` accepts to out, and their squared distances
@@ -97,6 +130,10 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     for (std::size_t i = i0; i < i1; ++i) {
       const Vec<D> xi = pos[i];
       const std::size_t before = used;
+      if (filtered && !filter.any_within(grid, xi, radius_of(i))) {  // no candidate in reach: an empty list
+        cnt[i - i0] = 0;
+        continue;
+      }
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
         // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D). The index
@@ -221,6 +258,7 @@ void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& 
     filter.slot_prefix.resize(grid.sorted.size() + 1, 0);
     for (std::size_t s = 0; s < grid.sorted.size(); ++s)
       filter.slot_prefix[s + 1] = filter.slot_prefix[s] + (grid.sorted[s] < candidates_below ? 1u : 0u);
+    filter.count_per_cell(grid);
   }
   build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more, filter);
   const std::size_t base = nl.index.size();

@@ -26,26 +26,35 @@ struct HalfListSetup {
   CellGrid<D> grid;
   NeighbourLists gather;
   PairLists pairs;
-  HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells) : p(std::move(particles)) {
+  // unlisted_radius: the gather radius of the other particles (default: radius).
+  HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells, double unlisted_radius = 0)
+      : p(std::move(particles)) {
     const std::size_t n = p.size();
+    if (unlisted_radius == 0) unlisted_radius = radius;
+    std::vector<double> radii(n, unlisted_radius), h(n);
+    std::fill_n(radii.begin(), std::min(listed, n), radius);
+    for (std::size_t i = 0; i < n; ++i) h[i] = 0.5 * radii[i];
     build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
     build_tile_order(grid, tile_cells, listed, pairs);
     build_neighbour_lists(grid, p.pos, radius, gather, listed);
-    append_neighbour_lists(grid, p.pos, listed, std::vector<double>(n, radius), gather, listed < n ? listed : SIZE_MAX);
-    build_half_lists_from_gather(gather, p.pos, std::vector<double>(n, 0.5 * radius), pairs);
+    append_neighbour_lists(grid, p.pos, listed, radii, gather, listed < n ? listed : SIZE_MAX);
+    build_half_lists_from_gather(gather, p.pos, h, pairs);
   }
 };
 
 template <int D>
 void check_every_pair_once(Particles<D> particles, double radius, std::size_t listed, int tile_cells,
-                           bool expect_far) {
-  HalfListSetup<D> s(std::move(particles), radius, listed, tile_cells);
+                           bool expect_far, double unlisted_radius = 0) {
+  HalfListSetup<D> s(std::move(particles), radius, listed, tile_cells, unlisted_radius);
   const std::size_t n = s.p.size();
   ASSERT_EQ(s.pairs.writable, listed);
+  const auto radius_of = [&](std::uint32_t i) { return i < listed || unlisted_radius == 0 ? radius : unlisted_radius; };
   std::set<std::pair<std::uint32_t, std::uint32_t>> expected, got;
   for (std::uint32_t i = 0; i < n; ++i)
-    for (std::uint32_t j = i + 1; j < n; ++j)
-      if ((i < listed || j < listed) && norm2(s.p.pos[i] - s.p.pos[j]) < radius * radius) expected.insert({i, j});
+    for (std::uint32_t j = i + 1; j < n; ++j) {
+      const double reach = std::max(radius_of(i), radius_of(j));
+      if ((i < listed || j < listed) && norm2(s.p.pos[i] - s.p.pos[j]) < reach * reach) expected.insert({i, j});
+    }
   // Recorded by pair number (calls run concurrently; each k is written once).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> visited(s.pairs.total(), {UINT32_MAX, UINT32_MAX});
   for_each_pair(s.pairs, [&](std::uint32_t i, std::uint32_t j, std::size_t k) { visited[k] = {std::min(i, j), std::max(i, j)}; });
@@ -66,6 +75,26 @@ TEST(PairLists, EveryPairWithAListedParticleOnce) {
   check_every_pair_once(test::random_particles<2>(1500, 13, true), 0.04, 900, 4, false);
   check_every_pair_once(test::random_particles<3>(1500, 14, true), 0.08, 700, 2, false);
 }
+// Listed particles in one corner, as the active ones of a block timestep often are (the innermost
+// orbits): the other particles' searches skip, by a count of listed particles per cell, those that
+// have none within reach (neighbour_lists.cpp); the pairs must be the same. Particles are
+// renumbered by x + y, so the first `listed` lie towards one corner; the unlisted ones reach
+// 2.5x further, so the pairs across the boundary beyond the listed particles' radius come from
+// the unlisted particles' searches only.
+template <int D>
+Particles<D> numbered_along_diagonal(Particles<D> p) {
+  std::vector<std::uint32_t> order(p.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return p.pos[a][0] + p.pos[a][1] < p.pos[b][0] + p.pos[b][1]; });
+  p.gather(order);
+  return p;
+}
+
+TEST(PairLists, UnlistedParticlesFarFromListedOnesFindNothing) {
+  check_every_pair_once(numbered_along_diagonal(test::random_particles<2>(3000, 17, true)), 0.02, 300, 8, false, 0.05);
+  check_every_pair_once(numbered_along_diagonal(test::random_particles<2>(3000, 18, true)), 0.02, 1200, 1, true, 0.05);
+}
+
 // Tiles of one cell are narrower than the supports: pairs beyond the next tile become far pairs.
 TEST(PairLists, PairsBeyondTheNextTileAreFarPairs) {
   check_every_pair_once(test::random_particles<2>(1500, 15, true), 0.04, 1500, 1, true);
