@@ -69,9 +69,13 @@ struct CandidateFilter {
     if constexpr (D == 2) {
       if (cell_sum.empty()) return true;
       const int reach = cells_within(grid, radius);
-      const auto lo = [&](int k) { return static_cast<std::size_t>(std::max(grid.coord(x[k], k) - reach, 0)); };
-      const auto hi = [&](int k) { return static_cast<std::size_t>(std::min(grid.coord(x[k], k) + reach, grid.dims[static_cast<std::size_t>(k)] - 1)) + 1; };
-      const std::size_t x0 = lo(0), x1 = hi(0), y0 = lo(1), y1 = hi(1), w = static_cast<std::size_t>(grid.dims[0]) + 1;
+      std::size_t lo[2], hi[2];  // the square of cells within reach, [lo, hi) per axis
+      for (int k = 0; k < 2; ++k) {
+        const int c = grid.coord(x[k], k);
+        lo[k] = static_cast<std::size_t>(std::max(c - reach, 0));
+        hi[k] = static_cast<std::size_t>(std::min(c + reach, grid.dims[static_cast<std::size_t>(k)] - 1)) + 1;
+      }
+      const std::size_t x0 = lo[0], x1 = hi[0], y0 = lo[1], y1 = hi[1], w = static_cast<std::size_t>(grid.dims[0]) + 1;
       return cell_sum[y1 * w + x1] - cell_sum[y0 * w + x1] - cell_sum[y1 * w + x0] + cell_sum[y0 * w + x0] != 0;
     } else {
       return true;
@@ -136,8 +140,8 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
       }
       for (double radius = radius_of(i);;) {
         const double r2 = radius * radius;
-        // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D). The index
-        // bound is tested only in the filtered search's rows (below is UINT32_MAX otherwise).
+        // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D); the index
+        // bound `below` is UINT32_MAX outside the filtered search.
         const ScanTarget<D> target{xi, r2, accept.self(i), std::min(accept.limit(i), below)};
         const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
           if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
