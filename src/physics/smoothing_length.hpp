@@ -105,8 +105,8 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   // rho(h) and d rho/dh: sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)) (the latter is
   // -h^(D+1)/sigma d rho/dh). The kernel terms first, candidate by candidate into two buffers: a loop
   // without a sum, which vectorises (kernel_terms.hpp; with the sums in it, it did not: ~14
-  // instructions per candidate for w alone). Then the sums, in four interleaved partial sums added in a fixed
-  // order (an ordered double sum cannot use vector instructions).
+  // instructions per candidate for w alone). Then the sums, in four interleaved partial sums added
+  // in a fixed order (an ordered double sum cannot use vector instructions).
   thread_local std::vector<double> w_buffer, dw_buffer;
   double* wq = scratch_for(w_buffer, cand.size());
   double* dwq = scratch_for(dw_buffer, cand.size());
