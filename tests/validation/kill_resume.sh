@@ -7,12 +7,28 @@ sphdisk=$1
 config="$(dirname "$0")/small_ring.toml"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-args=(--set problem.particles=4000 --set 'output.tau=[0.0186, 0.0192]' --set checkpoint.every_steps=7 --set output.progress_interval=0)
+# ~490 steps to tau = 0.030: long enough that every kill below lands mid-run (the kills wait for
+# steps, not seconds, so a faster build or machine does not move them past the run's end).
+args=(--set problem.particles=4000 --set 'output.tau=[0.0186, 0.0300]' --set checkpoint.every_steps=7 --set output.progress_interval=0)
 passed=0 failed=0
 ok() { passed=$((passed + 1)); echo "ok   $1"; }
 bad() { failed=$((failed + 1)); echo "FAIL $1"; }
 
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev/null || { echo "reference run failed"; exit 1; }
+
+# Waits until the run in $1 has written diagnostics of more than $2 steps (flushed at its checkpoints).
+wait_for_step() {
+  for _ in $(seq 4000); do
+    [ -e "$1/diagnostics.csv" ] && [ "$(wc -l < "$1/diagnostics.csv")" -gt "$2" ] && return 0
+    sleep 0.005
+  done
+  return 1
+}
+# Sends signal $2 to run $1 and returns its exit status (128 + 9 when SIGKILL found it running).
+kill_mid_run() {
+  kill -"$2" "$1" 2> /dev/null
+  wait "$1" 2> /dev/null
+}
 
 same_as_reference() {
   for f in snapshot_001.hdf5 snapshot_002.hdf5; do cmp -s "$work/ref/$f" "$1/$f" || return 1; done
@@ -22,20 +38,20 @@ same_particles_as_reference() {
   for f in snapshot_001.hdf5 snapshot_002.hdf5; do h5diff -q "$work/ref/$f" "$1/$f" /PartType0 /PartType0 || return 1; done
 }
 
-# SIGKILL after the first checkpoint appears plus a delay (several kill points).
-for delay in 0 0.2 0.5 0.9 1.4; do
-  dir=$work/kill_$delay
+# SIGKILL once the run has passed a step (several kill points, each landing at an arbitrary moment
+# of a step: computing, writing a snapshot or a checkpoint).
+for at in 7 20 60 150 300; do
+  dir=$work/kill_$at
   OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" > /dev/null 2>&1 &
   pid=$!
-  for _ in $(seq 200); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.02; done
-  sleep "$delay"
-  kill -9 $pid 2> /dev/null
-  wait $pid 2> /dev/null
+  wait_for_step "$dir" $at
+  kill_mid_run $pid 9
+  rc=$?
   step=$(/usr/bin/python3 -c "import h5py,sys; print(int(h5py.File(sys.argv[1])['Checkpoint'].attrs['Step']))" "$dir/checkpoint.hdf5" 2>/dev/null || echo "?")
-  if OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null && same_as_reference "$dir"; then
-    ok "SIGKILL at +${delay}s (checkpoint of step $step), resumed on 1 thread: identical snapshots"
+  if [ $rc -eq 137 ] && OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null && same_as_reference "$dir"; then
+    ok "SIGKILL after step $at (checkpoint of step $step), resumed on 1 thread: identical snapshots"
   else
-    bad "SIGKILL at +${delay}s (checkpoint of step $step)"
+    bad "SIGKILL after step $at (rc=$rc, 137 if killed mid-run; checkpoint of step $step)"
   fi
 done
 
@@ -47,13 +63,13 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set check
 pid=$!
 for _ in $(seq 400); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.01; done
 [ -e "$dir/snapshot_001.hdf5" ] && early=no || early=yes
-sleep 0.3
-kill -9 $pid 2> /dev/null
-wait $pid 2> /dev/null
-if [ $early = yes ] && OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null && same_particles_as_reference "$dir"; then
+wait_for_step "$dir" 100
+kill_mid_run $pid 9
+rc=$?
+if [ $early = yes ] && [ $rc -eq 137 ] && OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null && same_particles_as_reference "$dir"; then
   ok "checkpoint.every_tau: checkpoint before the first output; SIGKILL and resume: identical particle data"
 else
-  bad "checkpoint.every_tau (checkpoint before first output: $early)"
+  bad "checkpoint.every_tau (checkpoint before first output: $early; rc=$rc, 137 if killed mid-run)"
 fi
 
 # A NaN in the middle of a run (injected at step 30, checkpoints every 7 steps): exit 3, a debug
@@ -74,10 +90,8 @@ fi
 dir=$work/term
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" > /dev/null 2> "$work/term.err" &
 pid=$!
-for _ in $(seq 200); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.02; done
-sleep 0.3
-kill -TERM $pid
-wait $pid
+wait_for_step "$dir" 60
+kill_mid_run $pid TERM
 rc=$?
 if [ $rc -eq 75 ] && grep -q "sphdisk resume" "$work/term.err"; then ok "SIGTERM: exit 75 with the resume command"; else bad "SIGTERM: rc=$rc $(cat "$work/term.err")"; fi
 if OMP_NUM_THREADS=3 "$sphdisk" resume "$dir" -q > /dev/null && same_as_reference "$dir"; then ok "SIGTERM then resume on 3 threads: identical snapshots"; else bad "SIGTERM resume"; fi
@@ -88,15 +102,14 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref_rescan" "${rargs[@]}
 dir=$work/kill_rescan
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${rargs[@]}" > /dev/null 2>&1 &
 pid=$!
-for _ in $(seq 200); do [ -e "$dir/checkpoint.hdf5" ] && break; sleep 0.02; done
-sleep 0.5
-kill -9 $pid 2> /dev/null
-wait $pid 2> /dev/null
-if OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null &&
+wait_for_step "$dir" 100
+kill_mid_run $pid 9
+rc=$?
+if [ $rc -eq 137 ] && OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q > /dev/null &&
    cmp -s "$work/ref_rescan/snapshot_001.hdf5" "$dir/snapshot_001.hdf5" && cmp -s "$work/ref_rescan/snapshot_002.hdf5" "$dir/snapshot_002.hdf5"; then
   ok "rescanned pairs: SIGKILL, resumed on 1 thread: identical snapshots"
 else
-  bad "rescanned pairs: SIGKILL and resume"
+  bad "rescanned pairs: SIGKILL and resume (rc=$rc, 137 if killed mid-run)"
 fi
 
 # A corrupted checkpoint is refused, and nothing is written.
