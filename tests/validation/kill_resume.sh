@@ -16,10 +16,11 @@ bad() { failed=$((failed + 1)); echo "FAIL $1"; }
 
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev/null || { echo "reference run failed"; exit 1; }
 
-# Waits until the run in $1 has written diagnostics of more than $2 steps (flushed at its checkpoints).
+# Waits until the run in $1 has written its first checkpoint (something to resume from) and
+# diagnostics of at least $2 steps (flushed just before each checkpoint is written).
 wait_for_step() {
   for _ in $(seq 4000); do
-    [ -e "$1/diagnostics.csv" ] && [ "$(wc -l < "$1/diagnostics.csv")" -gt "$2" ] && return 0
+    [ -e "$1/checkpoint.hdf5" ] && [ "$(wc -l < "$1/diagnostics.csv")" -gt "$2" ] && return 0
     sleep 0.005
   done
   return 1
