@@ -150,18 +150,18 @@ void BM_AdaptiveStep(benchmark::State& state) {
 }
 
 // The same with AVX-512 switched off in the hand-dispatched loops (core/vector_isa.hpp: the
-// candidate scan, the h solve's kernel terms); equal to the above where the CPU lacks it.
-void BM_NeighbourSearchBaseline(benchmark::State& state) {
+// candidate scan, the h solve's kernel terms, the gradient and force list sums); equal to the above
+// where the CPU lacks it.
+template <void (*Benchmark)(benchmark::State&)>
+void baseline(benchmark::State& state) {
   allow_avx512(false);
-  BM_NeighbourSearch(state);
+  Benchmark(state);
   allow_avx512(true);
 }
-
-void BM_AdaptiveStepBaseline(benchmark::State& state) {
-  allow_avx512(false);
-  BM_AdaptiveStep(state);
-  allow_avx512(true);
-}
+void BM_NeighbourSearchBaseline(benchmark::State& state) { baseline<BM_NeighbourSearch>(state); }
+void BM_VelocityGradientBaseline(benchmark::State& state) { baseline<BM_VelocityGradient>(state); }
+void BM_ForcesBaseline(benchmark::State& state) { baseline<BM_Forces>(state); }
+void BM_AdaptiveStepBaseline(benchmark::State& state) { baseline<BM_AdaptiveStep>(state); }
 
 #define SPHDISK_PHASE(bm) BENCHMARK(bm)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()
 SPHDISK_PHASE(BM_CellBuild);
@@ -171,6 +171,8 @@ SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);
 SPHDISK_PHASE(BM_AdaptiveStep);
 SPHDISK_PHASE(BM_NeighbourSearchBaseline);
+SPHDISK_PHASE(BM_VelocityGradientBaseline);
+SPHDISK_PHASE(BM_ForcesBaseline);
 SPHDISK_PHASE(BM_AdaptiveStepBaseline);
 
 }  // namespace

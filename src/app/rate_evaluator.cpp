@@ -11,6 +11,7 @@
 #include "neighbours/pair_scan.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
+#include "physics/list_factors.hpp"
 #include "physics/smoothing_length.hpp"
 #include "physics/viscous_stress.hpp"
 
@@ -321,21 +322,9 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
         bind_kernel_slopes<K>(p, slopes_);
       }
       // rho came with h; the pair factors are formed by the velocity-gradient loop on its way, a
-      // list at a time: the partners' distances and slopes gathered first, so that the loop of
-      // square roots, kernel slopes and divisions runs on contiguous data and vectorises.
+      // list at a time (physics/list_factors.hpp).
       const auto form = [this, &p](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
-        thread_local std::vector<double> r2_buffer;
-        thread_local std::vector<KernelSlope> sj_buffer;
-        double* r2 = scratch_for(r2_buffer, js.size());
-        KernelSlope* sj = scratch_for(sj_buffer, js.size());
-        const Vec<D> xi = p.pos[i];
-        for (std::size_t q = 0; q < js.size(); ++q) {
-          r2[q] = norm2(xi - p.pos[js[q]]);
-          sj[q] = slopes_[js[q]];
-        }
-        const KernelSlope si = slopes_[i];
-        for (std::size_t q = 0; q < js.size(); ++q)
-          factors[q] = static_cast<float>(pair_average_factor<K>(si, sj[q], std::sqrt(r2[q])));
+        form_list_factors<K>(p.pos.data(), slopes_.data(), i, js, factors);
       };
       const PairLists& lists = interacting_pairs(p, active);
       const StoredPairsFormingFactors<decltype(form)> pairs(lists, factors_, form);

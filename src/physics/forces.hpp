@@ -16,6 +16,7 @@
 #include "core/snug_resize.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
+#include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
@@ -52,30 +53,13 @@ void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsPar
     Pr[i] = with_pressure ? pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i] : 0.0;
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
+  const ForceListData<D> d{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
+                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.data(), m, with_pressure,
+                           phys.force_correction};
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
-    const Vec<D> xi = p.pos[i], vi = p.vel[i];
-    const Mat<D> Si = as_double(p.stress[i]);
-    const double mi = p.mass[i], inv_rho_i = inv_rho[i], Pr_i = Pr[i];
     Vec<D> ai;
     double du_i = 0.0;
-    for (std::size_t q = 0; q < js.size(); ++q) {
-      const std::uint32_t j = js[q];
-      Vec<D> g = (xi - p.pos[j]) * static_cast<double>(F[q]);
-      if (phys.force_correction) g = corrected_pair_gradient(as_double(p.correction[i]), as_double(p.correction[j]), g);
-      Mat<D> X;
-      const Mat<D> Sj = as_double(p.stress[j]);
-      for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * inv_rho[j] + Sj.c[c] * inv_rho_i;
-      Vec<D> f = contract(X, g);
-      const double mj = p.mass[j];
-      if (with_pressure) {
-        f -= g * (Pr_i + Pr[j]);
-        const double work = dot(vi - p.vel[j], g);
-        du_i += Pr_i * mj * work;
-        if (j < m) p.du_dt[j] += Pr[j] * mi * work;
-      }
-      ai += f * mj;
-      if (j < m) p.acc[j] -= f * mi;
-    }
+    add_force_list(d, i, js, std::span<const float>(F), ai, du_i);  // list_sums.hpp
     if (i < m) {
       p.acc[i] += ai;
       p.du_dt[i] += du_i;

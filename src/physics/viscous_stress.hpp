@@ -13,41 +13,12 @@
 #include "core/snug_resize.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
+#include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {
-
-// Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
-// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
-template <int D>
-struct GradientSums {
-  Mat<D> V, M;
-};
-
-// Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
-// gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each
-// with the other's volume.
-// The products are formed once per pair (pair_products) and weighted for each particle.
-template <int D>
-GradientSums<D> pair_products(const Vec<D>& dv, const Vec<D>& dx) {
-  GradientSums<D> q;
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) {
-      q.V(a, b) = dv[a] * dx[b];
-      q.M(a, b) = dx[a] * dx[b];
-    }
-  return q;
-}
-
-template <int D>
-void add_gradient_terms(GradientSums<D>& g, double f, const GradientSums<D>& products) {
-  for (std::size_t c = 0; c < g.V.c.size(); ++c) {
-    g.V.c[c] += f * products.V.c[c];
-    g.M.c[c] -= f * products.M.c[c];
-  }
-}
 
 template <int D>
 void accumulate(Mat<D>& into, const Mat<D>& x) {
@@ -60,20 +31,31 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
   accumulate(into.M, x.M);
 }
 
-// Per-particle sums over neighbours of terms in dv = v_j - v_i and dx = x_i - x_j weighted by
-// (m_j/rho_j) W_,b / dx_b, each pair visited once (pair_lists.hpp): pair_of(dv, dx) forms what the
-// two particles share, add(sum, weight, shared, other) adds one particle's term (other: the partner).
-// Both particles get the same dv and dx: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx. Sums are kept for
-// the writable particles (pairs.writable()) and zeroed first.
-template <int D, class Pairs, class T, class PairOf, class Add>
-void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vector<T>& sums, PairOf&& pair_of, Add&& add) {
+// Per-particle sums over each half list's pairs (pair_lists.hpp): add_list(i, js, F, sum_i) adds
+// the list's terms to sum_i and to the writable partners' sums. Sums are kept for the writable
+// particles (pairs.writable()) and zeroed first.
+template <class Pairs, class T, class AddList>
+void sum_pair_lists(const Pairs& pairs, std::vector<T>& sums, AddList&& add_list) {
   const std::size_t m = pairs.writable();
   resize_snug(sums, m);
   par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
+    T sum_i{};
+    add_list(i, js, std::span<const float>(F), sum_i);
+    if (i < m) accumulate(sums[i], sum_i);
+  }, FactorUse::Read, "velocity_gradient");
+}
+
+// Per-particle sums over neighbours of terms in dv = v_j - v_i and dx = x_i - x_j weighted by
+// (m_j/rho_j) W_,b / dx_b: pair_of(dv, dx) forms what the two particles share, add(sum, weight,
+// shared, other) adds one particle's term (other: the partner). Both particles get the same dv and
+// dx: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx.
+template <int D, class Pairs, class T, class PairOf, class Add>
+void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vector<T>& sums, PairOf&& pair_of, Add&& add) {
+  const std::size_t m = pairs.writable();
+  sum_pair_lists(pairs, sums, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, T& sum_i) {
     const Vec<D> xi = p.pos[i], vi = p.vel[i];
     const double Vi = p.volume[i];
-    T sum_i{};
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
       const auto shared = pair_of(p.vel[j] - vi, xi - p.pos[j]);
@@ -81,17 +63,18 @@ void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vec
       add(sum_i, f * p.volume[j], shared, j);
       if (j < m) add(sums[j], f * Vi, shared, i);
     }
-    if (i < m) accumulate(sums[i], sum_i);
-  }, FactorUse::Read, "velocity_gradient");
+  });
 }
 
-// Eq. 8's V and the moment matrix M of every writable particle.
+// Eq. 8's V and the moment matrix M of every writable particle (the list loops: list_sums.hpp).
 template <int D, class Pairs>
 void sum_gradients(const Particles<D>& p, const Pairs& pairs, std::vector<GradientSums<D>>& sums) {
-  sum_velocity_pair_terms(p, pairs, sums, [](const Vec<D>& dv, const Vec<D>& dx) { return pair_products(dv, dx); },
-                          [](GradientSums<D>& g, double w, const GradientSums<D>& products, std::uint32_t) {
-                            add_gradient_terms(g, w, products);
-                          });
+  sum_pair_lists(pairs, sums, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
+                                  GradientSums<D>& sum_i) {
+    // (sums is sized by sum_pair_lists before the first list)
+    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), pairs.writable()};
+    add_gradient_list(d, i, js, F, sum_i);
+  });
 }
 
 // The gradient made exact for linear velocity fields on any particle set: V M^-1. M is the

@@ -1,0 +1,76 @@
+#include "physics/list_factors.hpp"
+
+#include "core/vector_isa.hpp"
+#include "physics/kernels.hpp"
+
+// Compiled with -ffp-contract=off (src/CMakeLists.txt): the AVX-512 build of the factor loop could
+// fuse products into sums where the baseline one cannot, and the two must give the same bits.
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+#include <immintrin.h>
+#endif
+
+namespace sphdisk {
+
+namespace {
+
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+
+// Eight partners per round: positions and kernel slopes gathered, squared distances formed as norm2
+// does (core/vec.hpp), all stored contiguously; then the factor loop of the scalar path on them,
+// compiled eight-wide here. (maskz forms with all lanes set: GCC 12 warns that the plain forms'
+// undefined source may be used.)
+template <class K>
+[[gnu::target("avx512f,avx512vl")]] void form_avx512(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i,
+                                                     std::span<const std::uint32_t> js, std::span<float> factors) {
+  static_assert(sizeof(Vec<2>) == 2 * sizeof(double) && sizeof(KernelSlope) == 2 * sizeof(double),
+                "positions and slopes are gathered as pairs of doubles");
+  thread_local std::vector<double> r2_buffer, inv_h_buffer, dw_norm_buffer;
+  const std::size_t n = js.size();
+  double* r2 = scratch_for(r2_buffer, n + 8);  // whole vectors of eight
+  double* inv_h = scratch_for(inv_h_buffer, n + 8);
+  double* dw_norm = scratch_for(dw_norm_buffer, n + 8);
+  const double* xs = reinterpret_cast<const double*>(pos);
+  const double* ss = reinterpret_cast<const double*>(slopes);
+  const __m512d xi = _mm512_set1_pd(pos[i][0]), yi = _mm512_set1_pd(pos[i][1]);
+  for (std::size_t q = 0; q < n; q += 8) {
+    const auto live = static_cast<__mmask8>(n - q < 8 ? (1u << (n - q)) - 1u : 0xFFu);
+    const __m512i j = _mm512_maskz_cvtepu32_epi64(0xFF, _mm256_maskz_loadu_epi32(live, js.data() + q));
+    const __m512i twice = _mm512_add_epi64(j, j);
+    const __m512i twice1 = _mm512_add_epi64(twice, _mm512_set1_epi64(1));
+    const __m512d dx = _mm512_sub_pd(xi, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice, xs, 8));
+    const __m512d dy = _mm512_sub_pd(yi, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice1, xs, 8));
+#ifdef __FMA__
+    _mm512_storeu_pd(r2 + q, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));  // as norm2 with FMA
+#else
+    _mm512_storeu_pd(r2 + q, _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)));
+#endif
+    _mm512_storeu_pd(inv_h + q, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice, ss, 8));
+    _mm512_storeu_pd(dw_norm + q, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice1, ss, 8));
+  }
+  const KernelSlope si = slopes[i];
+  float* F = factors.data();
+  for (std::size_t q = 0; q < n; ++q)
+    F[q] = static_cast<float>(pair_average_factor<K>(si, KernelSlope{inv_h[q], dw_norm[q]}, std::sqrt(r2[q])));
+}
+
+#endif
+
+}  // namespace
+
+template <class K>
+void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i, std::span<const std::uint32_t> js,
+                       std::span<float> factors) {
+#ifdef SPHDISK_X86_AVX512_DISPATCH
+  if (use_avx512()) return form_avx512<K>(pos, slopes, i, js, factors);
+#endif
+  form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
+}
+
+template void form_list_factors<CubicSpline>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
+                                             std::span<float>);
+template void form_list_factors<WendlandC2>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
+                                            std::span<float>);
+template void form_list_factors<WendlandC4>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
+                                            std::span<float>);
+
+}  // namespace sphdisk

@@ -1,0 +1,138 @@
+#pragma once
+// The innermost loops of the velocity-gradient (P98 eq. 8) and force (eq. 6) pair sums: the terms of
+// one half list, particle i and its partners js[q] with kernel-gradient factors F[q]
+// (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum. They are
+// most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
+// scattered one at a time; in 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) eight
+// partners are gathered and their terms formed at once, then added pair by pair in list order.
+// Both paths give the same bits: the same operations in the same order (i's sum takes the partners
+// in list order; a partner's sum gets one addition per pair, as before), with floating-point
+// contraction off in list_sums.cpp, and the tests compare the two. The vector path covers the
+// ring's case (no pressure, no force correction, double-precision stress); the rest runs the scalar
+// loop.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "core/particles.hpp"
+#include "core/vec.hpp"
+#include "physics/moment_correction.hpp"
+
+namespace sphdisk {
+
+// Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
+// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
+template <int D>
+struct GradientSums {
+  Mat<D> V, M;
+};
+
+// Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
+// gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each
+// with the other's volume.
+// The products are formed once per pair (pair_products) and weighted for each particle.
+template <int D>
+GradientSums<D> pair_products(const Vec<D>& dv, const Vec<D>& dx) {
+  GradientSums<D> q;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) {
+      q.V(a, b) = dv[a] * dx[b];
+      q.M(a, b) = dx[a] * dx[b];
+    }
+  return q;
+}
+
+template <int D>
+void add_gradient_terms(GradientSums<D>& g, double f, const GradientSums<D>& products) {
+  for (std::size_t c = 0; c < g.V.c.size(); ++c) {
+    g.V.c[c] += f * products.V.c[c];
+    g.M.c[c] -= f * products.M.c[c];
+  }
+}
+
+// What the gradient sums of a list read and write: sums[j] for the partners j < writable.
+template <int D>
+struct GradientListData {
+  const Vec<D>* pos;
+  const Vec<D>* vel;
+  const double* volume;
+  GradientSums<D>* sums;
+  std::size_t writable;
+};
+
+template <int D>
+void add_gradient_list_scalar(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                              std::span<const float> F, GradientSums<D>& sum_i) {
+  const Vec<D> xi = d.pos[i], vi = d.vel[i];
+  const double Vi = d.volume[i];
+  for (std::size_t q = 0; q < js.size(); ++q) {
+    const std::uint32_t j = js[q];
+    const GradientSums<D> shared = pair_products(d.vel[j] - vi, xi - d.pos[j]);
+    const double f = static_cast<double>(F[q]);
+    add_gradient_terms(sum_i, f * d.volume[j], shared);
+    if (j < d.writable) add_gradient_terms(d.sums[j], f * Vi, shared);
+  }
+}
+
+// What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.
+// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction.
+template <int D>
+struct ForceListData {
+  const Vec<D>* pos;
+  const Vec<D>* vel;
+  const Mat<D, ReducedReal>* stress;
+  const Mat<D, ReducedReal>* correction;
+  const double* mass;
+  const double* inv_rho;
+  const double* p_over_rho2;
+  Vec<D>* acc;
+  double* du_dt;
+  std::size_t writable;
+  bool with_pressure, force_correction;
+};
+
+// The pair terms of forces.hpp (eq. 6 and the pressure force) for one list: i's to ai and du_i.
+template <int D>
+void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                           std::span<const float> F, Vec<D>& ai, double& du_i) {
+  const Vec<D> xi = d.pos[i], vi = d.vel[i];
+  const Mat<D> Si = as_double(d.stress[i]);
+  const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
+  const double Pr_i = d.with_pressure ? d.p_over_rho2[i] : 0.0;
+  for (std::size_t q = 0; q < js.size(); ++q) {
+    const std::uint32_t j = js[q];
+    Vec<D> g = (xi - d.pos[j]) * static_cast<double>(F[q]);
+    if (d.force_correction) g = corrected_pair_gradient(as_double(d.correction[i]), as_double(d.correction[j]), g);
+    Mat<D> X;
+    const Mat<D> Sj = as_double(d.stress[j]);
+    for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * d.inv_rho[j] + Sj.c[c] * inv_rho_i;
+    Vec<D> f = contract(X, g);
+    const double mj = d.mass[j];
+    if (d.with_pressure) {
+      f -= g * (Pr_i + d.p_over_rho2[j]);
+      const double work = dot(vi - d.vel[j], g);
+      du_i += Pr_i * mj * work;
+      if (j < d.writable) d.du_dt[j] += d.p_over_rho2[j] * mi * work;
+    }
+    ai += f * mj;
+    if (j < d.writable) d.acc[j] -= f * mi;
+  }
+}
+
+// 2D: the vector path where the CPU has AVX-512 (and the case is covered), else the scalar loop.
+void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                       std::span<const float> F, GradientSums<2>& sum_i);
+void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
+                    Vec<2>& ai, double& du_i);
+
+// 3D: the scalar loops.
+inline void add_gradient_list(const GradientListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                              std::span<const float> F, GradientSums<3>& sum_i) {
+  add_gradient_list_scalar(d, i, js, F, sum_i);
+}
+inline void add_force_list(const ForceListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                           std::span<const float> F, Vec<3>& ai, double& du_i) {
+  add_force_list_scalar(d, i, js, F, ai, du_i);
+}
+
+}  // namespace sphdisk

@@ -1,0 +1,209 @@
+// The gradient and force sums of a half list (physics/list_sums.hpp) and its kernel-gradient factors
+// (physics/list_factors.hpp) must come out of the AVX-512 path bit for bit as out of the scalar
+// loop: i's sum, every writable partner's sum, every factor, for lists of every length (remainders
+// of every size), partners beyond the writable bound, coincident particles, partners at the
+// kernels' breakpoints and equal velocities (zero differences, whose signs the sums must keep
+// alike).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "core/vector_isa.hpp"
+#include "physics/kernels.hpp"
+#include "physics/list_factors.hpp"
+#include "physics/list_sums.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+constexpr std::size_t kParticles = 120, kWritable = 90;
+
+struct Lists {
+  std::vector<std::uint32_t> owner;
+  std::vector<std::vector<std::uint32_t>> partners;
+  std::vector<std::vector<float>> factors;
+};
+
+struct Fields {
+  std::vector<Vec<2>> pos, vel;
+  std::vector<double> volume, mass, inv_rho;
+  std::vector<Mat<2, ReducedReal>> stress;
+};
+
+Fields random_fields() {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), positive(0.5, 2.0);
+  Fields f;
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    f.pos.push_back(Vec<2>{{u(rng), u(rng)}});
+    f.vel.push_back(Vec<2>{{u(rng), u(rng)}});
+    f.volume.push_back(positive(rng));
+    f.mass.push_back(positive(rng));
+    f.inv_rho.push_back(positive(rng));
+    Mat<2, ReducedReal> s;
+    for (auto& c : s.c) c = static_cast<ReducedReal>(u(rng));
+    f.stress.push_back(s);
+  }
+  f.pos[7] = f.pos[3];  // coincident with 3
+  f.vel[8] = f.vel[3];  // moving with 3
+  f.vel[9] = f.vel[3];
+  return f;
+}
+
+// One list of every length 0..kParticles-1 (owner k % kParticles, distinct partners that are not
+// the owner, in random order), random factors of both signs.
+Lists random_lists() {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<float> u(-3.0f, 1.0f);
+  Lists l;
+  for (std::size_t n = 0; n + 1 < kParticles; ++n) {
+    const auto i = static_cast<std::uint32_t>((n * 37 + 3) % kParticles);
+    std::vector<std::uint32_t> all(kParticles);
+    std::iota(all.begin(), all.end(), 0u);
+    all.erase(all.begin() + i);
+    std::shuffle(all.begin(), all.end(), rng);
+    all.resize(n);
+    if (i != 3 && n > 0) all[0] = 3;  // the coincident and co-moving partners in some lists
+    if (i == 3 && n > 2) {
+      all[0] = 7;
+      all[1] = 8;
+      all[2] = 9;
+    }
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    std::shuffle(all.begin(), all.end(), rng);
+    std::vector<float> F(all.size());
+    for (float& x : F) x = u(rng);
+    l.owner.push_back(i);
+    l.partners.push_back(all);
+    l.factors.push_back(F);
+  }
+  return l;
+}
+
+struct GradientResult {
+  std::vector<GradientSums<2>> sums, own;
+};
+
+GradientResult gradients(const Fields& f, const Lists& l) {
+  GradientResult r;
+  r.sums.assign(kWritable, GradientSums<2>{});
+  const GradientListData<2> d{f.pos.data(), f.vel.data(), f.volume.data(), r.sums.data(), kWritable};
+  for (std::size_t k = 0; k < l.owner.size(); ++k) {
+    GradientSums<2> own{};
+    add_gradient_list(d, l.owner[k], l.partners[k], l.factors[k], own);
+    r.own.push_back(own);
+  }
+  return r;
+}
+
+struct ForceResult {
+  std::vector<Vec<2>> acc, own;
+};
+
+ForceResult forces(const Fields& f, const Lists& l) {
+  ForceResult r;
+  r.acc.assign(kWritable, Vec<2>{{0.25, -0.5}});
+  std::vector<double> du_dt(kWritable, 0.0);
+  const ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), nullptr, f.mass.data(), f.inv_rho.data(),
+                           nullptr, r.acc.data(), du_dt.data(), kWritable, false, false};
+  for (std::size_t k = 0; k < l.owner.size(); ++k) {
+    Vec<2> own;
+    double du = 0.0;
+    add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own, du);
+    EXPECT_EQ(du, 0.0);  // no pressure, no work
+    r.own.push_back(own);
+  }
+  return r;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+}  // namespace
+
+TEST(ListSums, GradientPathsAgree) {
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  const Fields f = random_fields();
+  const Lists l = random_lists();
+  const GradientResult vector = gradients(f, l);
+  allow_avx512(false);
+  const GradientResult scalar = gradients(f, l);
+  allow_avx512(true);
+  EXPECT_TRUE(same_bits(vector.own, scalar.own));
+  EXPECT_TRUE(same_bits(vector.sums, scalar.sums));
+  // Not vacuous: the sums are those of the pair terms (one of them by hand).
+  const GradientSums<2> expected = [&] {
+    GradientSums<2> g{};
+    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+    add_gradient_terms(g, static_cast<double>(l.factors[1][0]) * f.volume[j], pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j]));
+    return g;
+  }();
+  EXPECT_EQ(std::memcmp(&vector.own[1], &expected, sizeof expected), 0);
+}
+
+TEST(ListSums, ForcePathsAgree) {
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  const Fields f = random_fields();
+  const Lists l = random_lists();
+  const ForceResult vector = forces(f, l);
+  allow_avx512(false);
+  const ForceResult scalar = forces(f, l);
+  allow_avx512(true);
+  EXPECT_TRUE(same_bits(vector.own, scalar.own));
+  EXPECT_TRUE(same_bits(vector.acc, scalar.acc));
+  EXPECT_NE(vector.acc[0], (Vec<2>{{0.25, -0.5}}));  // the partners' accelerations were written
+}
+
+namespace {
+
+template <class K>
+std::vector<std::vector<float>> factors(const Fields& f, const std::vector<KernelSlope>& slopes, const Lists& l) {
+  std::vector<std::vector<float>> all;
+  for (std::size_t k = 0; k < l.owner.size(); ++k) {
+    std::vector<float> F(l.partners[k].size());
+    form_list_factors<K>(f.pos.data(), slopes.data(), l.owner[k], l.partners[k], F);
+    all.push_back(F);
+  }
+  return all;
+}
+
+template <class K>
+void check_factor_paths_agree() {
+  Fields f = random_fields();
+  std::vector<KernelSlope> slopes;
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> inv_h(0.4, 3.0), dw_norm(0.1, 2.0);
+  for (std::size_t k = 0; k < kParticles; ++k) slopes.push_back({inv_h(rng), dw_norm(rng)});
+  slopes[3].inv_h = 1.0;  // partners at q = 1 and q = 2 of particle 3's kernel
+  f.pos[8] = f.pos[3] + Vec<2>{{1.0, 0.0}};
+  f.pos[9] = f.pos[3] + Vec<2>{{0.0, 2.0}};
+  const Lists l = random_lists();
+  const auto vector = factors<K>(f, slopes, l);
+  allow_avx512(false);
+  const auto scalar = factors<K>(f, slopes, l);
+  allow_avx512(true);
+  for (std::size_t k = 0; k < l.owner.size(); ++k) {
+    ASSERT_TRUE(same_bits(vector[k], scalar[k])) << K::name << ", list " << k;
+    for (std::size_t q = 0; q < l.partners[k].size(); ++q) {  // and both are the pair average
+      const std::uint32_t i = l.owner[k], j = l.partners[k][q];
+      ASSERT_EQ(vector[k][q], static_cast<float>(pair_average_factor<K>(slopes[i], slopes[j], norm(f.pos[i] - f.pos[j]))));
+    }
+  }
+}
+
+}  // namespace
+
+TEST(ListSums, FactorPathsAgree) {
+  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  check_factor_paths_agree<CubicSpline>();
+  check_factor_paths_agree<WendlandC2>();
+  check_factor_paths_agree<WendlandC4>();
+}
