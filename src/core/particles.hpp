@@ -114,8 +114,9 @@ struct Particles {
   // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices).
   void gather(const std::vector<std::uint32_t>& order) {
     for_each_field([&order](const FieldInfo&, auto& v) {
-      std::remove_reference_t<decltype(v)> out(order.size());
-      for (std::size_t i = 0; i < order.size(); ++i) out[i] = v[order[i]];
+      std::remove_reference_t<decltype(v)> out;  // reserved, not sized: no zero-fill before the copy
+      out.reserve(order.size());
+      for (const std::uint32_t k : order) out.push_back(v[k]);
       v.swap(out);
     });
   }

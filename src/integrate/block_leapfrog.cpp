@@ -158,8 +158,9 @@ class BlockLeapfrog final : public Integrator<D> {
 
   template <class T>
   void permute(std::vector<T>& v) const {
-    std::vector<T> out(v.size());
-    for (std::size_t k = 0; k < order_.size(); ++k) out[k] = v[order_[k]];
+    std::vector<T> out;  // reserved, not sized: no zero-fill before the copy
+    out.reserve(order_.size());
+    for (const std::uint32_t k : order_) out.push_back(v[k]);
     v.swap(out);
   }
 

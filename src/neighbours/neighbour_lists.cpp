@@ -110,8 +110,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   auto& block_index = nl.block_index;
   auto& block_count = nl.block_count;
-  block_index.resize(nblocks);
-  block_count.resize(nblocks);
+  // Grown, never shrunk: with block timesteps the number of blocks changes from one evaluation to
+  // the next, and a block whose buffer were dropped would grow it again, zero-filled, next time.
+  if (block_index.size() < nblocks) {
+    block_index.resize(nblocks);
+    block_count.resize(nblocks);
+  }
 
   // A settle that looks at its candidates gets their squared distances with them.
   constexpr bool kDistances = !std::is_same_v<std::decay_t<Settle>, KeepAll>;
@@ -255,7 +259,9 @@ std::size_t NeighbourLists::bytes() const {
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
                             const std::vector<double>& radius, NeighbourLists& nl, std::size_t candidates_below) {
-  NeighbourLists more;
+  NeighbourLists more;  // the appended lists, built in nl's block buffers (see build_lists)
+  more.block_index.swap(nl.block_index);
+  more.block_count.swap(nl.block_count);
   CandidateFilter filter;
   if (candidates_below < pos.size()) {
     filter.below = static_cast<std::uint32_t>(candidates_below);
@@ -268,6 +274,8 @@ void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& 
   const std::size_t base = nl.index.size();
   nl.index.insert(nl.index.end(), more.index.begin(), more.index.end());
   for (std::size_t k = 1; k < more.offsets.size(); ++k) nl.offsets.push_back(base + more.offsets[k]);
+  nl.block_index.swap(more.block_index);
+  nl.block_count.swap(more.block_count);
 }
 
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&, std::size_t);
