@@ -184,6 +184,11 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
     std::vector<std::uint32_t> lacking;  // of one list
     const std::size_t i0 = b * kBlock, i1 = std::min(ns, i0 + kBlock);
+    // At most every listed partner stays: reserved once, so that appending never reallocates (the
+    // moves of a growing vector were ~1% of a block-timestep run).
+    B.near.reserve(src.offsets[i1] - src.offsets[i0]);
+    B.near_start.reserve(i1 - i0 + 1);
+    B.far_start.reserve(i1 - i0 + 1);
     B.near_start.assign(1, 0);
     B.far_start.assign(1, 0);
     for (std::size_t i = i0; i < i1; ++i) {

@@ -45,6 +45,14 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 #endif
 }
 
+// v[k] = old v[order[k]] for k < order.size() (order: a permutation or a selection of indices).
+template <class T, class Index>
+void gather(std::vector<T>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
+  std::vector<T> out(order.size());
+  for_each(order.size(), [&](std::size_t k) { out[k] = v[order[k]]; }, trace_label, 4096);
+  v.swap(out);
+}
+
 // Coloured work items: colour c holds items [colour_start[c], colour_start[c + 1]). Colours run one
 // after the other; the items of one colour run in parallel (dynamically balanced), so items that
 // write to common data must get different colours (neighbours/pair_lists.hpp).
