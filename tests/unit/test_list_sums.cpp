@@ -10,6 +10,7 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "core/vector_isa.hpp"
@@ -86,40 +87,50 @@ Lists random_lists() {
   return l;
 }
 
-struct GradientResult {
-  std::vector<GradientSums<2>> sums, own;
+// Each list's sum for its owner (own) and what the lists added to the stored sums of the writable
+// particles, which start at `start`.
+template <class T>
+struct ListResults {
+  std::vector<T> stored, own;
 };
 
-GradientResult gradients(const Fields& f, const Lists& l) {
-  GradientResult r;
-  r.sums.assign(kWritable, GradientSums<2>{});
-  const GradientListData<2> d{f.pos.data(), f.vel.data(), f.volume.data(), r.sums.data(), kWritable};
+template <class T, class AddList>
+ListResults<T> sum_each_list(const Lists& l, const T& start, AddList&& add_list) {
+  ListResults<T> r;
+  r.stored.assign(kWritable, start);
   for (std::size_t k = 0; k < l.owner.size(); ++k) {
-    GradientSums<2> own{};
-    add_gradient_list(d, l.owner[k], l.partners[k], l.factors[k], own);
+    T own{};
+    add_list(r.stored.data(), l.owner[k], l.partners[k], l.factors[k], own);
     r.own.push_back(own);
   }
   return r;
 }
 
-struct ForceResult {
-  std::vector<Vec<2>> acc, own;
-};
+ListResults<GradientSums<2>> gradients(const Fields& f, const Lists& l) {
+  return sum_each_list(l, GradientSums<2>{}, [&](GradientSums<2>* sums, std::uint32_t i, const auto& js, const auto& F,
+                                                 GradientSums<2>& own) {
+    add_gradient_list({f.pos.data(), f.vel.data(), f.volume.data(), sums, kWritable}, i, js, F, own);
+  });
+}
 
-ForceResult forces(const Fields& f, const Lists& l) {
-  ForceResult r;
-  r.acc.assign(kWritable, Vec<2>{{0.25, -0.5}});
-  std::vector<double> du_dt(kWritable, 0.0);
-  const ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), nullptr, f.mass.data(), f.inv_rho.data(),
-                           nullptr, r.acc.data(), du_dt.data(), kWritable, false, false};
-  for (std::size_t k = 0; k < l.owner.size(); ++k) {
-    Vec<2> own;
+ListResults<Vec<2>> forces(const Fields& f, const Lists& l) {
+  return sum_each_list(l, Vec<2>{{0.25, -0.5}}, [&](Vec<2>* acc, std::uint32_t i, const auto& js, const auto& F, Vec<2>& own) {
+    const ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), nullptr, f.mass.data(), f.inv_rho.data(),
+                             nullptr, acc, nullptr, kWritable, false, false};
     double du = 0.0;
-    add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own, du);
+    add_force_list(d, i, js, F, own, du);
     EXPECT_EQ(du, 0.0);  // no pressure, no work
-    r.own.push_back(own);
-  }
-  return r;
+  });
+}
+
+// The same computation with AVX-512 (where the CPU has it), then with the scalar path.
+template <class Run>
+auto on_both_paths(Run&& run) {
+  auto vector = run();
+  allow_avx512(false);
+  auto scalar = run();
+  allow_avx512(true);
+  return std::pair{std::move(vector), std::move(scalar)};
 }
 
 template <class T>
@@ -133,12 +144,9 @@ TEST(ListSums, GradientPathsAgree) {
   if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const GradientResult vector = gradients(f, l);
-  allow_avx512(false);
-  const GradientResult scalar = gradients(f, l);
-  allow_avx512(true);
+  const auto [vector, scalar] = on_both_paths([&] { return gradients(f, l); });
   EXPECT_TRUE(same_bits(vector.own, scalar.own));
-  EXPECT_TRUE(same_bits(vector.sums, scalar.sums));
+  EXPECT_TRUE(same_bits(vector.stored, scalar.stored));
   // Not vacuous: the sums are those of the pair terms (one of them by hand).
   const GradientSums<2> expected = [&] {
     GradientSums<2> g{};
@@ -153,13 +161,10 @@ TEST(ListSums, ForcePathsAgree) {
   if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const ForceResult vector = forces(f, l);
-  allow_avx512(false);
-  const ForceResult scalar = forces(f, l);
-  allow_avx512(true);
+  const auto [vector, scalar] = on_both_paths([&] { return forces(f, l); });
   EXPECT_TRUE(same_bits(vector.own, scalar.own));
-  EXPECT_TRUE(same_bits(vector.acc, scalar.acc));
-  EXPECT_NE(vector.acc[0], (Vec<2>{{0.25, -0.5}}));  // the partners' accelerations were written
+  EXPECT_TRUE(same_bits(vector.stored, scalar.stored));
+  EXPECT_NE(vector.stored[0], (Vec<2>{{0.25, -0.5}}));  // the partners' accelerations were written
 }
 
 namespace {
@@ -186,10 +191,7 @@ void check_factor_paths_agree() {
   f.pos[8] = f.pos[3] + Vec<2>{{1.0, 0.0}};
   f.pos[9] = f.pos[3] + Vec<2>{{0.0, 2.0}};
   const Lists l = random_lists();
-  const auto vector = factors<K>(f, slopes, l);
-  allow_avx512(false);
-  const auto scalar = factors<K>(f, slopes, l);
-  allow_avx512(true);
+  const auto [vector, scalar] = on_both_paths([&] { return factors<K>(f, slopes, l); });
   for (std::size_t k = 0; k < l.owner.size(); ++k) {
     ASSERT_TRUE(same_bits(vector[k], scalar[k])) << K::name << ", list " << k;
     for (std::size_t q = 0; q < l.partners[k].size(); ++q) {  // and both are the pair average
