@@ -15,7 +15,8 @@ namespace sphdisk {
 namespace {
 
 #ifdef SPHDISK_X86_AVX512_DISPATCH
-// (maskz forms with all lanes set: GCC 12 warns that the plain forms' undefined source may be used)
+// Intrinsics in their maskz forms with all lanes set where GCC 12 warns that the plain forms'
+// undefined source may be used.
 
 static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions and velocities are gathered as interleaved x, y");
 static_assert(sizeof(GradientSums<2>) == 8 * sizeof(double), "a particle's gradient sums are one vector of eight");
@@ -28,10 +29,10 @@ static_assert(sizeof(GradientSums<2>) == 8 * sizeof(double), "a particle's gradi
     t[k + 1] = _mm512_maskz_unpackhi_pd(0xFF, r[k], r[k + 1]);
   }
   for (int k = 0; k < 8; k += 4) {
-    u[k] = _mm512_maskz_shuffle_f64x2(0xFF, t[k], t[k + 2], 0x88);      // pairs 0 and 4 (or 1 and 5)
-    u[k + 1] = _mm512_maskz_shuffle_f64x2(0xFF, t[k], t[k + 2], 0xDD);  // pairs 2 and 6 (or 3 and 7)
-    u[k + 2] = _mm512_maskz_shuffle_f64x2(0xFF, t[k + 1], t[k + 3], 0x88);
-    u[k + 3] = _mm512_maskz_shuffle_f64x2(0xFF, t[k + 1], t[k + 3], 0xDD);
+    u[k] = _mm512_maskz_shuffle_f64x2(0xFF, t[k], t[k + 2], 0x88);          // pairs 0 and 4
+    u[k + 1] = _mm512_maskz_shuffle_f64x2(0xFF, t[k], t[k + 2], 0xDD);      // pairs 2 and 6
+    u[k + 2] = _mm512_maskz_shuffle_f64x2(0xFF, t[k + 1], t[k + 3], 0x88);  // pairs 1 and 5
+    u[k + 3] = _mm512_maskz_shuffle_f64x2(0xFF, t[k + 1], t[k + 3], 0xDD);  // pairs 3 and 7
   }
   r[0] = _mm512_maskz_shuffle_f64x2(0xFF, u[0], u[4], 0x88);
   r[4] = _mm512_maskz_shuffle_f64x2(0xFF, u[0], u[4], 0xDD);
