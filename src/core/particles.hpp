@@ -114,7 +114,7 @@ struct Particles {
   // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices).
   // Serial: it also runs in the child process that reads a checkpoint (io/hdf5_util.hpp forks to
   // isolate library crashes), where an OpenMP loop would wait for threads that do not exist there.
-  // The block integrator's frequent moves use par::gather field by field.
+  // The block integrator's frequent moves use par::permute_prefix field by field.
   void gather(const std::vector<std::uint32_t>& order) {
     for_each_field([&order](const FieldInfo&, auto& v) {
       std::remove_reference_t<decltype(v)> out(order.size());

@@ -45,12 +45,13 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 #endif
 }
 
-// v[k] = old v[order[k]] for k < order.size() (order: a permutation or a selection of indices).
+// v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
+// of 0 .. order.size() - 1, so a prefix is rearranged in place of a whole copy).
 template <class T, class Index>
-void gather(std::vector<T>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
-  std::vector<T> out(order.size());
-  for_each(order.size(), [&](std::size_t k) { out[k] = v[order[k]]; }, trace_label, 4096);
-  v.swap(out);
+void permute_prefix(std::vector<T>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
+  std::vector<T> moved(order.size());
+  for_each(order.size(), [&](std::size_t k) { moved[k] = v[order[k]]; }, trace_label, 4096);
+  for_each(order.size(), [&](std::size_t k) { v[k] = moved[k]; }, trace_label, 4096);
 }
 
 // Coloured work items: colour c holds items [colour_start[c], colour_start[c + 1]). Colours run one

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "parallel/loops.hpp"
@@ -15,6 +16,23 @@ TEST(ParallelLayer, ForEachVisitsEveryIndexOnce) {
     std::vector<int> hits(100003, 0);
     par::for_each(hits.size(), [&](std::size_t i) { hits[i] += 1; });
     for (int h : hits) ASSERT_EQ(h, 1);
+  }
+  par::set_threads(0);
+}
+
+TEST(ParallelLayer, PermutePrefixRearrangesThePrefixOnly) {
+  // Longer than one work unit (4096), reversed so that every moved element lands elsewhere.
+  const std::size_t n = 20000, m = 9001;
+  std::vector<std::uint32_t> order(m);
+  for (std::size_t k = 0; k < m; ++k) order[k] = static_cast<std::uint32_t>(m - 1 - k);
+  for (int threads : {1, 3}) {
+    par::set_threads(threads);
+    std::vector<double> v(n);
+    for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<double>(i);
+    par::permute_prefix(v, order);
+    ASSERT_EQ(v.size(), n);
+    for (std::size_t k = 0; k < m; ++k) ASSERT_EQ(v[k], static_cast<double>(m - 1 - k));
+    for (std::size_t i = m; i < n; ++i) ASSERT_EQ(v[i], static_cast<double>(i));
   }
   par::set_threads(0);
 }
