@@ -149,6 +149,33 @@ void BM_AdaptiveStep(benchmark::State& state) {
   }
 }
 
+// One partial evaluation of block timesteps (integrate/block_leapfrog.cpp): the innermost fraction
+// 1/range(1) of the particles active (moved to the front), the rest only partners, adaptive h. With
+// few active particles this measures what a partial evaluation costs beyond its active particles
+// (cell build, inactive partners' searches, passes over all particles); items: active particles.
+void BM_PartialEvaluation(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  Particles<2> p = fixture(n).p;
+  std::fill(p.h.begin(), p.h.end(), fixture(n).h);
+  PhaseTimers timers;
+  RateEvaluator<2> rates(KernelType::Cubic, fixture(n).h, fixture(n).phys, timers, Smoothing::Adaptive, kNeighbours);
+  rates.evaluate(p);
+  // The innermost ones to the front, each part in cell order (as the block integrator keeps each bin).
+  const std::size_t active = std::max<std::size_t>(1, n / static_cast<std::size_t>(state.range(1)));
+  std::vector<double> r2(n);
+  for (std::size_t i = 0; i < n; ++i) r2[i] = norm2(p.pos[i]);
+  std::vector<double> sorted = r2;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(active - 1), sorted.end());
+  const double edge = sorted[active - 1];
+  std::vector<std::uint32_t> inner_first(n);
+  for (std::size_t i = 0; i < n; ++i) inner_first[i] = static_cast<std::uint32_t>(i);
+  std::stable_partition(inner_first.begin(), inner_first.end(), [&](std::uint32_t i) { return r2[i] <= edge; });
+  p.gather(inner_first);
+  rates.evaluate(p, active);
+  for (auto _ : state) rates.evaluate(p, active);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * active));
+}
+
 // The same with AVX-512 switched off in the hand-dispatched loops (core/vector_isa.hpp: the
 // candidate scan, the h solve's kernel terms, the gradient and force list sums); equal to the above
 // where the CPU lacks it.
@@ -170,6 +197,7 @@ SPHDISK_PHASE(BM_Density);
 SPHDISK_PHASE(BM_VelocityGradient);
 SPHDISK_PHASE(BM_Forces);
 SPHDISK_PHASE(BM_AdaptiveStep);
+BENCHMARK(BM_PartialEvaluation)->ArgsProduct({{100000, 1000000}, {1, 10, 500}})->Unit(benchmark::kMillisecond)->UseRealTime();
 SPHDISK_PHASE(BM_NeighbourSearchBaseline);
 SPHDISK_PHASE(BM_VelocityGradientBaseline);
 SPHDISK_PHASE(BM_ForcesBaseline);
