@@ -6,9 +6,10 @@
 #   LABEL=SETTINGS: a name and the --set overrides of one variant, separated by spaces; default:
 #     leapfrog='integrator.scheme="leapfrog"'  respa='integrator.scheme="respa"'
 # Writes runs/time_to_solution/N<N>/<label>/ and runs/time_to_solution/N<N>/summary.csv.
+# SPHDISK=path: another build's executable (e.g. an earlier commit's, bench/compare_builds.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-exe=build/release/sphdisk
+exe=${SPHDISK:-build/release/sphdisk}
 n=100000 threads=2 common=()
 while [ $# -gt 0 ]; do
   case $1 in
