@@ -176,14 +176,14 @@ void BM_PartialEvaluation(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * active));
 }
 
-// The same with AVX-512 switched off in the hand-dispatched loops (core/vector_isa.hpp: the
-// candidate scan, the h solve's kernel terms, the gradient and force list sums); equal to the above
-// where the CPU lacks it.
+// The same with the hand-dispatched loops (core/vector_isa.hpp: the candidate scan, the h solve's
+// kernel terms, the pair factors, the gradient and force list sums) on their baseline path; equal to
+// the above where the CPU has neither AVX2 nor AVX-512.
 template <void (*Benchmark)(benchmark::State&)>
 void baseline(benchmark::State& state) {
-  allow_avx512(false);
+  limit_vector_isa(VectorIsa::baseline);
   Benchmark(state);
-  allow_avx512(true);
+  limit_vector_isa(VectorIsa::avx512);
 }
 void BM_NeighbourSearchBaseline(benchmark::State& state) { baseline<BM_NeighbourSearch>(state); }
 void BM_VelocityGradientBaseline(benchmark::State& state) { baseline<BM_VelocityGradient>(state); }

@@ -1,24 +1,36 @@
 #include "core/vector_isa.hpp"
 
+#include <algorithm>
+
 namespace sphdisk {
 
 namespace {
 
-bool allowed = true;
-
-bool cpu_has_avx512() {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-  return has;
-#else
-  return false;
-#endif
-}
+VectorIsa cap = VectorIsa::avx512;
 
 }  // namespace
 
-bool use_avx512() { return allowed && cpu_has_avx512(); }
+VectorIsa cpu_vector_isa() {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  static const VectorIsa has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") ? VectorIsa::avx512
+                               : __builtin_cpu_supports("avx2")                                      ? VectorIsa::avx2
+                                                                                                     : VectorIsa::baseline;
+  return has;
+#else
+  return VectorIsa::baseline;
+#endif
+}
 
-void allow_avx512(bool allow) { allowed = allow; }
+VectorIsa vector_isa() { return std::min(cap, cpu_vector_isa()); }
+
+void limit_vector_isa(VectorIsa widest) { cap = widest; }
+
+const char* vector_isa_name(VectorIsa isa) {
+  switch (isa) {
+    case VectorIsa::avx512: return "avx512";
+    case VectorIsa::avx2: return "avx2";
+    default: return "baseline";
+  }
+}
 
 }  // namespace sphdisk

@@ -4,7 +4,7 @@
 
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): a product added to another must not be
 // fused in one path and not the other, or the two would disagree on candidates at the radius.
-#ifdef SPHDISK_X86_AVX512_DISPATCH
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
 #include <immintrin.h>
 #endif
 
@@ -12,16 +12,16 @@ namespace sphdisk {
 
 namespace {
 
-std::size_t keep_scalar(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < n; ++k) {
+// Entries k0..n-1 of idx kept behind the first `kept`, in place; returns the new count.
+std::size_t keep_from(std::uint32_t* idx, const double* d2, std::size_t k0, std::size_t n, std::size_t kept, double r2) {
+  for (std::size_t k = k0; k < n; ++k) {
     idx[kept] = idx[k];
     kept += static_cast<std::size_t>(d2[k] < r2);
   }
   return kept;
 }
 
-#ifdef SPHDISK_X86_AVX512_DISPATCH
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
 
 // Eight candidates per round: positions (x, y interleaved) loaded as two vectors and split into
 // x and y by permutes, the tests as one mask, the accepted indices and distances packed to the
@@ -121,14 +121,101 @@ __attribute__((target("avx512f,avx512vl"))) EarlierPartners earlier_avx512(const
   return r;
 }
 
+// AVX2 has no compress: the accepted lanes of a round of four are moved to the front by a shuffle
+// from a table indexed by the 4-bit acceptance mask (for 32-bit indices a byte shuffle, for doubles
+// a permute of 32-bit halves).
+struct CompressTables {
+  alignas(16) std::uint8_t bytes[16][16];  // _mm_shuffle_epi8 control for four 32-bit lanes
+  alignas(32) std::uint32_t halves[16][8];  // _mm256_permutevar8x32_epi32 control for four doubles
+};
+
+constexpr CompressTables make_compress_tables() {
+  CompressTables t{};
+  for (unsigned m = 0; m < 16; ++m) {
+    unsigned o = 0;
+    for (unsigned l = 0; l < 4; ++l) {
+      if (!(m >> l & 1u)) continue;
+      for (unsigned b = 0; b < 4; ++b) t.bytes[m][4 * o + b] = static_cast<std::uint8_t>(4 * l + b);
+      t.halves[m][2 * o] = 2 * l;
+      t.halves[m][2 * o + 1] = 2 * l + 1;
+      ++o;
+    }
+    for (; o < 4; ++o) {  // the rest: anything (the slack takes it); the first lane
+      for (unsigned b = 0; b < 4; ++b) t.bytes[m][4 * o + b] = static_cast<std::uint8_t>(b);
+      t.halves[m][2 * o] = 0;
+      t.halves[m][2 * o + 1] = 1;
+    }
+  }
+  return t;
+}
+
+constexpr CompressTables kCompress = make_compress_tables();
+
+// Four candidates per round: positions (x, y interleaved) loaded as two vectors and split by an
+// unpack and a lane permute, the tests as a 4-bit mask, the accepted indices and distances moved
+// to the front and stored whole (the slack takes the rest). The last, partial round is the scalar
+// loop's (the same operations on each candidate).
+[[gnu::target("avx2")]] std::size_t scan_avx2(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0,
+                                              std::uint32_t s1, const ScanTarget<2>& t, std::uint32_t* out,
+                                              double* d2) {
+  const __m256d x = _mm256_set1_pd(t.x[0]), y = _mm256_set1_pd(t.x[1]), r2 = _mm256_set1_pd(t.r2);
+  // Unsigned j < limit as a signed comparison of both with the sign bit flipped.
+  const __m128i sign = _mm_set1_epi32(INT32_MIN);
+  const __m128i self = _mm_set1_epi32(static_cast<int>(t.self));
+  const __m128i limit = _mm_xor_si128(_mm_set1_epi32(static_cast<int>(t.limit)), sign);
+  const double* base = reinterpret_cast<const double*>(xs);
+  std::size_t found = 0;
+  std::uint32_t s = s0;
+  for (; s1 - s >= 4; s += 4) {
+    const __m256d a = _mm256_loadu_pd(base + 2 * std::size_t{s});      // x0 y0 x1 y1
+    const __m256d b = _mm256_loadu_pd(base + 2 * std::size_t{s} + 4);  // x2 y2 x3 y3
+    const __m256d dx = _mm256_sub_pd(_mm256_permute4x64_pd(_mm256_unpacklo_pd(a, b), 0xD8), x);
+    const __m256d dy = _mm256_sub_pd(_mm256_permute4x64_pd(_mm256_unpackhi_pd(a, b), 0xD8), y);
+#ifdef __FMA__
+    const __m256d dist2 = _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx));  // as norm2 with FMA
+#else
+    const __m256d dist2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+#endif
+    const __m128i j = _mm_loadu_si128(reinterpret_cast<const __m128i*>(js + s));
+    const __m128i ok = _mm_andnot_si128(_mm_cmpeq_epi32(j, self), _mm_cmplt_epi32(_mm_xor_si128(j, sign), limit));
+    const int keep = _mm256_movemask_pd(_mm256_cmp_pd(dist2, r2, _CMP_LT_OQ)) & _mm_movemask_ps(_mm_castsi128_ps(ok));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + found),
+                     _mm_shuffle_epi8(j, _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.bytes[keep]))));
+    if (d2) {
+      const __m256i to_front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompress.halves[keep]));
+      _mm256_storeu_pd(d2 + found, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dist2), to_front)));
+    }
+    found += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(keep)));
+  }
+  return found + scan_candidates_scalar<2>(js, xs, s, s1, t, out + found, d2 ? d2 + found : nullptr);
+}
+
+// In place: a round stores at or before the entries it has loaded.
+[[gnu::target("avx2")]] std::size_t keep_avx2(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
+  const __m256d radius2 = _mm256_set1_pd(r2);
+  std::size_t kept = 0, k = 0;
+  for (; n - k >= 4; k += 4) {
+    const __m128i j = _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx + k));
+    const int keep = _mm256_movemask_pd(_mm256_cmp_pd(_mm256_loadu_pd(d2 + k), radius2, _CMP_LT_OQ));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(idx + kept),
+                     _mm_shuffle_epi8(j, _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress.bytes[keep]))));
+    kept += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(keep)));
+  }
+  return keep_from(idx, d2, k, n, kept, r2);  // the scalar loop's remainder
+}
+
 #endif
 
 }  // namespace
 
 std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
                             const ScanTarget<2>& target, std::uint32_t* out, double* d2) {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  if (use_avx512()) return scan_avx512(js, xs, s0, s1, target, out, d2);
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return scan_avx512(js, xs, s0, s1, target, out, d2);
+    case VectorIsa::avx2: return scan_avx2(js, xs, s0, s1, target, out, d2);
+    case VectorIsa::baseline: break;
+  }
 #endif
   return scan_candidates_scalar<2>(js, xs, s0, s1, target, out, d2);
 }
@@ -136,17 +223,21 @@ std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint
 EarlierPartners earlier_partners(const std::uint32_t* js, std::size_t n, std::uint32_t slot_i, const std::uint32_t* slot,
                                  const Vec<2>& xi, const Vec<2>* pos, const double* h, std::uint32_t limit,
                                  std::uint32_t* lacking) {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  if (use_avx512()) return earlier_avx512(js, n, slot_i, slot, xi, pos, h, limit, lacking);
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  if (vector_isa() == VectorIsa::avx512) return earlier_avx512(js, n, slot_i, slot, xi, pos, h, limit, lacking);
 #endif
   return earlier_partners_scalar<2>(js, n, slot_i, slot, xi, pos, h, limit, lacking);
 }
 
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  if (use_avx512()) return keep_avx512(idx, d2, n, r2);
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return keep_avx512(idx, d2, n, r2);
+    case VectorIsa::avx2: return keep_avx2(idx, d2, n, r2);
+    case VectorIsa::baseline: break;
+  }
 #endif
-  return keep_scalar(idx, d2, n, r2);
+  return keep_from(idx, d2, 0, n, 0, r2);
 }
 
 }  // namespace sphdisk

@@ -4,7 +4,7 @@
 #include "physics/kernels.hpp"
 
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): the AVX-512 build of the loop could fuse
-// D w + q w' where the baseline one cannot, and the two must give the same bits.
+// D w + q w' where the baseline one cannot, and all builds must give the same bits.
 namespace sphdisk {
 
 namespace {
@@ -24,9 +24,14 @@ void terms_baseline(const double* dist, double inv_h, std::size_t n, double* w, 
   terms<K, D>(dist, inv_h, n, w, dw);
 }
 
-#ifdef SPHDISK_X86_AVX512_DISPATCH
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
 template <class K, int D>
 [[gnu::target("avx512f")]] void terms_avx512(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
+  terms<K, D>(dist, inv_h, n, w, dw);
+}
+
+template <class K, int D>
+[[gnu::target("avx2")]] void terms_avx2(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
   terms<K, D>(dist, inv_h, n, w, dw);
 }
 #endif
@@ -35,8 +40,12 @@ template <class K, int D>
 
 template <class K, int D>
 void kernel_terms(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  if (use_avx512()) return terms_avx512<K, D>(dist, inv_h, n, w, dw);
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return terms_avx512<K, D>(dist, inv_h, n, w, dw);
+    case VectorIsa::avx2: return terms_avx2<K, D>(dist, inv_h, n, w, dw);
+    case VectorIsa::baseline: break;
+  }
 #endif
   terms_baseline<K, D>(dist, inv_h, n, w, dw);
 }

@@ -4,8 +4,8 @@
 #include "physics/kernels.hpp"
 
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): the AVX-512 build of the factor loop could
-// fuse products into sums where the baseline one cannot, and the two must give the same bits.
-#ifdef SPHDISK_X86_AVX512_DISPATCH
+// fuse products into sums where the baseline one cannot, and all paths must give the same bits.
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
 #include <immintrin.h>
 #endif
 
@@ -13,7 +13,7 @@ namespace sphdisk {
 
 namespace {
 
-#ifdef SPHDISK_X86_AVX512_DISPATCH
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
 
 // Eight partners per round: positions and kernel slopes gathered, squared distances formed as norm2
 // does (core/vec.hpp), all stored contiguously; then the factor loop of the scalar path on them,
@@ -53,6 +53,13 @@ template <class K>
     F[q] = static_cast<float>(pair_average_factor<K>(si, KernelSlope{inv_h[q], dw_norm[q]}, std::sqrt(r2[q])));
 }
 
+// The baseline code compiled for AVX2: the loop of square roots and divisions four-wide.
+template <class K>
+[[gnu::target("avx2")]] void form_avx2(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i,
+                                       std::span<const std::uint32_t> js, std::span<float> factors) {
+  form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
+}
+
 #endif
 
 }  // namespace
@@ -60,8 +67,12 @@ template <class K>
 template <class K>
 void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<float> factors) {
-#ifdef SPHDISK_X86_AVX512_DISPATCH
-  if (use_avx512()) return form_avx512<K>(pos, slopes, i, js, factors);
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return form_avx512<K>(pos, slopes, i, js, factors);
+    case VectorIsa::avx2: return form_avx2<K>(pos, slopes, i, js, factors);
+    case VectorIsa::baseline: break;
+  }
 #endif
   form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
 }

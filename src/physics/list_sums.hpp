@@ -4,7 +4,8 @@
 // (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum. They are
 // most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
 // scattered one at a time; in 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) eight
-// partners are gathered and their terms formed at once, then added pair by pair in list order.
+// partners are gathered and their terms formed at once, then added pair by pair in list order; with
+// AVX2 only, the scalar gradient loop runs compiled for AVX2 (the force loop stays baseline).
 // Both paths give the same bits: the same operations in the same order (i's sum takes the partners
 // in list order; a partner's sum gets one addition per pair, as before), with floating-point
 // contraction off in list_sums.cpp, and the tests compare the two. The vector path covers the
@@ -60,8 +61,9 @@ struct GradientListData {
   std::size_t writable;
 };
 
+// (always_inline: list_sums.cpp compiles it for AVX2 too.)
 template <int D>
-void add_gradient_list_scalar(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+[[gnu::always_inline]] inline void add_gradient_list_scalar(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                               std::span<const float> F, GradientSums<D>& sum_i) {
   const Vec<D> xi = d.pos[i], vi = d.vel[i];
   const double Vi = d.volume[i];
@@ -119,7 +121,8 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
   }
 }
 
-// 2D: the vector path where the CPU has AVX-512 (and the case is covered), else the scalar loop.
+// 2D: the vector path where the CPU has AVX-512 (and the case is covered) or, for the gradient, AVX2;
+// else the scalar loop.
 void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<2>& sum_i);
 void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,

@@ -1,7 +1,7 @@
-// The 2D candidate scan (neighbours/candidate_scan.hpp): its vector path (AVX-512, where the CPU
-// has it) must give the scalar path's candidates and squared distances bit for bit, at the radius
-// too, for rows of every length (the last round of eight masks its loads), and so must whole
-// neighbour lists built with either.
+// The 2D candidate scan (neighbours/candidate_scan.hpp): its vector paths (AVX2 and AVX-512, those
+// the CPU has) must give the scalar path's candidates and squared distances bit for bit, at the
+// radius too, for rows of every length (partial last rounds), and so must whole neighbour lists
+// built with either.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,27 +25,24 @@ struct Scanned {
   std::vector<double> d2;
 };
 
-Scanned scan(bool vector, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
+Scanned scan(VectorIsa isa, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
              std::uint32_t s1, const ScanTarget<2>& t) {
-  allow_avx512(vector);
-  Scanned r;
-  r.idx.assign(s1 - s0 + kScanSlack, 0);
-  r.d2.assign(s1 - s0 + kScanSlack, 0.0);
-  const std::size_t n = scan_candidates(js.data(), xs.data(), s0, s1, t, r.idx.data(), r.d2.data());
-  allow_avx512(true);
-  r.idx.resize(n);
-  r.d2.resize(n);
-  return r;
+  return test::on_path(isa, [&] {
+    Scanned r;
+    r.idx.assign(s1 - s0 + kScanSlack, 0);
+    r.d2.assign(s1 - s0 + kScanSlack, 0.0);
+    const std::size_t n = scan_candidates(js.data(), xs.data(), s0, s1, t, r.idx.data(), r.d2.data());
+    r.idx.resize(n);
+    r.d2.resize(n);
+    return r;
+  });
 }
 
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-}  // namespace
-
-TEST(CandidateScan, VectorAndScalarPathsAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+void check_scan_paths_agree(VectorIsa isa) {
   // Positions on a lattice of 1/8, so many squared distances equal r2 exactly (1/8 and r2 = 1/4
   // are exact); candidates are accepted only below r2.
   std::mt19937_64 rng(11);
@@ -62,38 +59,51 @@ TEST(CandidateScan, VectorAndScalarPathsAgree) {
                              ScanTarget<2>{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}}) {
     for (std::uint32_t s0 = 0; s0 < 9; ++s0)
       for (std::uint32_t s1 = s0; s1 <= 40; ++s1) {
-        const Scanned v = scan(true, js, xs, s0, s1, t), s = scan(false, js, xs, s0, s1, t);
-        ASSERT_EQ(v.idx, s.idx) << "slots " << s0 << "-" << s1;
-        ASSERT_TRUE(same_bits(v.d2, s.d2)) << "slots " << s0 << "-" << s1;
+        const Scanned v = scan(isa, js, xs, s0, s1, t), s = scan(VectorIsa::baseline, js, xs, s0, s1, t);
+        ASSERT_EQ(v.idx, s.idx) << vector_isa_name(isa) << ", slots " << s0 << "-" << s1;
+        ASSERT_TRUE(same_bits(v.d2, s.d2)) << vector_isa_name(isa) << ", slots " << s0 << "-" << s1;
         accepted += s.idx.size();
       }
     for (std::size_t s = 0; s < xs.size(); ++s) at_radius += norm2(xs[s] - t.x) == t.r2;
   }
   EXPECT_GE(at_radius, 3u);  // the boundary case is exercised
   EXPECT_GT(accepted, 1000u);
+}
 
-  // Dropping beyond a smaller radius, in place, for every length.
+// Dropping beyond a smaller radius, in place, for every length, entries exactly at it included.
+void check_keep_paths_agree(VectorIsa isa) {
   std::vector<double> d2(40);
   for (std::size_t k = 0; k < d2.size(); ++k) d2[k] = 0.0625 * static_cast<double>(k % 7);
   for (std::size_t n = 0; n <= d2.size(); ++n) {
     std::vector<std::uint32_t> a(n + kScanSlack), b(n + kScanSlack);
     for (std::size_t k = 0; k < n; ++k) a[k] = b[k] = static_cast<std::uint32_t>(100 + k);
-    const std::size_t kept_vector = keep_within(a.data(), d2.data(), n, 0.25);
-    allow_avx512(false);
-    const std::size_t kept_scalar = keep_within(b.data(), d2.data(), n, 0.25);
-    allow_avx512(true);
-    ASSERT_EQ(kept_vector, kept_scalar) << n;
+    const std::size_t kept_vector = test::on_path(isa, [&] { return keep_within(a.data(), d2.data(), n, 0.25); });
+    const std::size_t kept_scalar = test::on_path(VectorIsa::baseline, [&] { return keep_within(b.data(), d2.data(), n, 0.25); });
+    ASSERT_EQ(kept_vector, kept_scalar) << vector_isa_name(isa) << ", n = " << n;
     a.resize(kept_vector);
     b.resize(kept_scalar);
-    ASSERT_EQ(a, b) << n;
+    ASSERT_EQ(a, b) << vector_isa_name(isa) << ", n = " << n;
   }
+}
+
+}  // namespace
+
+TEST(CandidateScan, VectorAndScalarPathsAgree) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  for (const VectorIsa isa : test::vector_paths()) check_scan_paths_agree(isa);
+}
+
+TEST(CandidateScan, KeepWithinPathsAgree) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  for (const VectorIsa isa : test::vector_paths()) check_keep_paths_agree(isa);
 }
 
 // Where a gather list meets its particle and which earlier partners lack it: lists of every length
 // (the last round of eight masks its loads), meeting points anywhere in them, partners exactly at
 // their support's edge (|x_i - x_j| = 2 h_j, which the partner's list lacks) and index limits.
+// (AVX2 runs the scalar code here: only the AVX-512 path differs.)
 TEST(CandidateScan, EarlierPartnersAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (cpu_vector_isa() < VectorIsa::avx512) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   std::mt19937_64 rng(3);
   std::uniform_int_distribution<int> cell(-4, 4);
   const std::size_t n = 48;
@@ -117,9 +127,9 @@ TEST(CandidateScan, EarlierPartnersAgree) {
         const Vec<2> xi{{0.125, 0.0}};
         std::vector<std::uint32_t> a(len + kScanSlack), b(len + kScanSlack);
         const EarlierPartners v = earlier_partners(js.data(), len, slot_i, slot.data(), xi, pos.data(), h.data(), limit, a.data());
-        allow_avx512(false);
-        const EarlierPartners s = earlier_partners(js.data(), len, slot_i, slot.data(), xi, pos.data(), h.data(), limit, b.data());
-        allow_avx512(true);
+        const EarlierPartners s = test::on_path(VectorIsa::baseline, [&] {
+          return earlier_partners(js.data(), len, slot_i, slot.data(), xi, pos.data(), h.data(), limit, b.data());
+        });
         ASSERT_EQ(v.count, s.count) << len << " " << slot_i;
         ASSERT_EQ(v.lacking, s.lacking) << len << " " << slot_i;
         a.resize(v.lacking);
@@ -136,7 +146,7 @@ TEST(CandidateScan, EarlierPartnersAgree) {
 // Gather lists with the h solve's settle (distances passed on, candidates beyond the kept radius
 // dropped) and half lists, each built with both paths.
 TEST(CandidateScan, SameListsWithEitherPath) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const auto p = test::random_particles<2>(5000, 12, true);
   const auto grid = build_cell_grid(p.pos, p.id, 0.02);
   std::vector<double> radius(p.size());
@@ -145,8 +155,8 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     EXPECT_EQ(cand.size(), d2.size());
     return 0.8 * searched;  // drop the outer candidates
   };
-  auto build = [&](bool vector) {
-    allow_avx512(vector);
+  auto build = [&](VectorIsa isa) {
+    limit_vector_isa(isa);
     NeighbourLists gather, half;
     build_settled_neighbour_lists(grid, p.pos, radius, settle, gather, p.size());
     std::vector<std::uint32_t> slot(p.size());
@@ -157,20 +167,23 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     for (std::size_t i = 0; i < p.size(); ++i) h[i] = 0.4 * radius[i];  // the settled radius, 0.8 x searched
     build_tile_order(grid, 4, p.size() * 3 / 4, from_gather);
     build_half_lists_from_gather(gather, p.pos, h, from_gather);
-    allow_avx512(true);
+    limit_vector_isa(VectorIsa::avx512);
     return std::tuple{gather, half, from_gather};
   };
-  const auto [gv, hv, pv] = build(true);
-  const auto [gs, hs, ps] = build(false);
-  EXPECT_EQ(pv.near.offsets, ps.near.offsets);
-  EXPECT_EQ(pv.near.index, ps.near.index);
-  EXPECT_EQ(pv.far.offsets, ps.far.offsets);
-  EXPECT_EQ(pv.far.index, ps.far.index);
+  const auto [gs, hs, ps] = build(VectorIsa::baseline);
   EXPECT_GT(ps.total(), 5 * p.size());
-  EXPECT_EQ(gv.offsets, gs.offsets);
-  EXPECT_EQ(gv.index, gs.index);
-  EXPECT_EQ(hv.offsets, hs.offsets);
-  EXPECT_EQ(hv.index, hs.index);
   EXPECT_GT(gs.total(), 10 * p.size());
   EXPECT_GT(hs.total(), 5 * p.size());
+  for (const VectorIsa isa : test::vector_paths()) {
+    SCOPED_TRACE(vector_isa_name(isa));
+    const auto [gv, hv, pv] = build(isa);
+    EXPECT_EQ(pv.near.offsets, ps.near.offsets);
+    EXPECT_EQ(pv.near.index, ps.near.index);
+    EXPECT_EQ(pv.far.offsets, ps.far.offsets);
+    EXPECT_EQ(pv.far.index, ps.far.index);
+    EXPECT_EQ(gv.offsets, gs.offsets);
+    EXPECT_EQ(gv.index, gs.index);
+    EXPECT_EQ(hv.offsets, hs.offsets);
+    EXPECT_EQ(hv.index, hs.index);
+  }
 }

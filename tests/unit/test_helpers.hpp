@@ -3,10 +3,13 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "core/particles.hpp"
+#include "core/vector_isa.hpp"
 
 namespace sphdisk::test {
 
@@ -61,6 +64,24 @@ inline void expect_momentum_and_energy_conserved(const Particles<2>& p, const st
   ASSERT_GT(scale, 0.0) << what;
   EXPECT_LT(std::abs(momentum_rate[0]) + std::abs(momentum_rate[1]), 1e-12 * scale) << what;
   EXPECT_LT(std::abs(energy_rate), 1e-12 * scale) << what;
+}
+
+// The vector paths of the hand-dispatched loops (core/vector_isa.hpp) that this CPU runs besides
+// the baseline, narrowest first; empty where it has neither AVX2 nor AVX-512.
+inline std::vector<VectorIsa> vector_paths() {
+  std::vector<VectorIsa> paths;
+  for (const VectorIsa isa : {VectorIsa::avx2, VectorIsa::avx512})
+    if (cpu_vector_isa() >= isa) paths.push_back(isa);
+  return paths;
+}
+
+// run() with the dispatched loops capped at `isa`; the cap is lifted afterwards.
+template <class Run>
+auto on_path(VectorIsa isa, Run&& run) {
+  limit_vector_isa(isa);
+  auto result = std::forward<Run>(run)();
+  limit_vector_isa(VectorIsa::avx512);
+  return result;
 }
 
 }  // namespace sphdisk::test

@@ -1,5 +1,5 @@
-// The h solve's kernel terms (physics/kernel_terms.hpp) must come out of the AVX-512 build of the
-// loop bit for bit as out of the baseline one, for every kernel, at the kernels' breakpoints too
+// The h solve's kernel terms (physics/kernel_terms.hpp) must come out of the AVX2 and AVX-512 builds
+// of the loop (those the CPU runs) bit for bit as out of the baseline one, for every kernel, at the kernels' breakpoints too
 // (q = 1 and 2, where the selects switch), and for lengths that leave remainders of every size.
 #include <gtest/gtest.h>
 
@@ -10,13 +10,14 @@
 #include "core/vector_isa.hpp"
 #include "physics/kernel_terms.hpp"
 #include "physics/kernels.hpp"
+#include "test_helpers.hpp"
 
 using namespace sphdisk;
 
 namespace {
 
 template <class K, int D>
-void check_paths_agree() {
+void check_paths_agree(VectorIsa isa) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> r(0.0, 2.5);
   std::vector<double> dist(67);
@@ -27,12 +28,10 @@ void check_paths_agree() {
   for (const double inv_h : {1.0, 0.93, 1.7}) {
     for (std::size_t n = 0; n <= dist.size(); n += 1) {
       std::vector<double> w1(n), dw1(n), w2(n), dw2(n);
-      kernel_terms<K, D>(dist.data(), inv_h, n, w1.data(), dw1.data());
-      allow_avx512(false);
-      kernel_terms<K, D>(dist.data(), inv_h, n, w2.data(), dw2.data());
-      allow_avx512(true);
-      ASSERT_EQ(std::memcmp(w1.data(), w2.data(), n * sizeof(double)), 0) << K::name << " n = " << n;
-      ASSERT_EQ(std::memcmp(dw1.data(), dw2.data(), n * sizeof(double)), 0) << K::name << " n = " << n;
+      test::on_path(isa, [&] { return kernel_terms<K, D>(dist.data(), inv_h, n, w1.data(), dw1.data()), 0; });
+      test::on_path(VectorIsa::baseline, [&] { return kernel_terms<K, D>(dist.data(), inv_h, n, w2.data(), dw2.data()), 0; });
+      ASSERT_EQ(std::memcmp(w1.data(), w2.data(), n * sizeof(double)), 0) << vector_isa_name(isa) << " " << K::name << " n = " << n;
+      ASSERT_EQ(std::memcmp(dw1.data(), dw2.data(), n * sizeof(double)), 0) << vector_isa_name(isa) << " " << K::name << " n = " << n;
       for (std::size_t k = 0; k < n; ++k) {  // and both are the kernel's own values
         const double q = dist[k] * inv_h;
         ASSERT_DOUBLE_EQ(w2[k], K::w(q));
@@ -45,9 +44,11 @@ void check_paths_agree() {
 }  // namespace
 
 TEST(KernelTerms, AvxAndBaselinePathsAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the baseline path runs";
-  check_paths_agree<CubicSpline, 2>();
-  check_paths_agree<CubicSpline, 3>();
-  check_paths_agree<WendlandC2, 2>();
-  check_paths_agree<WendlandC4, 3>();
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the baseline path runs";
+  for (const VectorIsa isa : test::vector_paths()) {
+    check_paths_agree<CubicSpline, 2>(isa);
+    check_paths_agree<CubicSpline, 3>(isa);
+    check_paths_agree<WendlandC2, 2>(isa);
+    check_paths_agree<WendlandC4, 3>(isa);
+  }
 }

@@ -1,5 +1,5 @@
 // The gradient and force sums of a half list (physics/list_sums.hpp) and its kernel-gradient factors
-// (physics/list_factors.hpp) must come out of the AVX-512 path bit for bit as out of the scalar
+// (physics/list_factors.hpp) must come out of the vector paths bit for bit as out of the scalar
 // loop: i's sum, every writable partner's sum, every factor, for lists of every length (remainders
 // of every size), partners beyond the writable bound, coincident particles, partners at the
 // kernels' breakpoints and equal velocities (zero differences, whose signs the sums must keep
@@ -17,6 +17,7 @@
 #include "physics/kernels.hpp"
 #include "physics/list_factors.hpp"
 #include "physics/list_sums.hpp"
+#include "test_helpers.hpp"
 
 using namespace sphdisk;
 
@@ -123,16 +124,6 @@ ListResults<Vec<2>> forces(const Fields& f, const Lists& l) {
   });
 }
 
-// The same computation with AVX-512 (where the CPU has it), then with the scalar path.
-template <class Run>
-auto on_both_paths(Run&& run) {
-  auto vector = run();
-  allow_avx512(false);
-  auto scalar = run();
-  allow_avx512(true);
-  return std::pair{std::move(vector), std::move(scalar)};
-}
-
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
@@ -141,12 +132,15 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
 }  // namespace
 
 TEST(ListSums, GradientPathsAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const auto [vector, scalar] = on_both_paths([&] { return gradients(f, l); });
-  EXPECT_TRUE(same_bits(vector.own, scalar.own));
-  EXPECT_TRUE(same_bits(vector.stored, scalar.stored));
+  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return gradients(f, l); });
+  for (const VectorIsa isa : test::vector_paths()) {
+    const auto vector = test::on_path(isa, [&] { return gradients(f, l); });
+    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
+    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
+  }
   // Not vacuous: the sums are those of the pair terms (one of them by hand).
   const GradientSums<2> expected = [&] {
     GradientSums<2> g{};
@@ -154,14 +148,15 @@ TEST(ListSums, GradientPathsAgree) {
     add_gradient_terms(g, static_cast<double>(l.factors[1][0]) * f.volume[j], pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j]));
     return g;
   }();
-  EXPECT_EQ(std::memcmp(&vector.own[1], &expected, sizeof expected), 0);
+  EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
 }
 
 TEST(ListSums, ForcePathsAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
+  if (cpu_vector_isa() < VectorIsa::avx512) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const auto [vector, scalar] = on_both_paths([&] { return forces(f, l); });
+  const auto vector = test::on_path(VectorIsa::avx512, [&] { return forces(f, l); });
+  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return forces(f, l); });
   EXPECT_TRUE(same_bits(vector.own, scalar.own));
   EXPECT_TRUE(same_bits(vector.stored, scalar.stored));
   EXPECT_NE(vector.stored[0], (Vec<2>{{0.25, -0.5}}));  // the partners' accelerations were written
@@ -181,7 +176,7 @@ std::vector<std::vector<float>> factors(const Fields& f, const std::vector<Kerne
 }
 
 template <class K>
-void check_factor_paths_agree() {
+void check_factor_paths_agree(VectorIsa isa) {
   Fields f = random_fields();
   std::vector<KernelSlope> slopes;
   std::mt19937_64 rng(13);
@@ -191,9 +186,10 @@ void check_factor_paths_agree() {
   f.pos[8] = f.pos[3] + Vec<2>{{1.0, 0.0}};
   f.pos[9] = f.pos[3] + Vec<2>{{0.0, 2.0}};
   const Lists l = random_lists();
-  const auto [vector, scalar] = on_both_paths([&] { return factors<K>(f, slopes, l); });
+  const auto vector = test::on_path(isa, [&] { return factors<K>(f, slopes, l); });
+  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return factors<K>(f, slopes, l); });
   for (std::size_t k = 0; k < l.owner.size(); ++k) {
-    ASSERT_TRUE(same_bits(vector[k], scalar[k])) << K::name << ", list " << k;
+    ASSERT_TRUE(same_bits(vector[k], scalar[k])) << vector_isa_name(isa) << ", " << K::name << ", list " << k;
     for (std::size_t q = 0; q < l.partners[k].size(); ++q) {  // and both are the pair average
       const std::uint32_t i = l.owner[k], j = l.partners[k][q];
       ASSERT_EQ(vector[k][q], static_cast<float>(pair_average_factor<K>(slopes[i], slopes[j], norm(f.pos[i] - f.pos[j]))));
@@ -204,8 +200,10 @@ void check_factor_paths_agree() {
 }  // namespace
 
 TEST(ListSums, FactorPathsAgree) {
-  if (!use_avx512()) GTEST_SKIP() << "this CPU has no AVX-512: only the scalar path runs";
-  check_factor_paths_agree<CubicSpline>();
-  check_factor_paths_agree<WendlandC2>();
-  check_factor_paths_agree<WendlandC4>();
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  for (const VectorIsa isa : test::vector_paths()) {
+    check_factor_paths_agree<CubicSpline>(isa);
+    check_factor_paths_agree<WendlandC2>(isa);
+    check_factor_paths_agree<WendlandC4>(isa);
+  }
 }
