@@ -11,6 +11,7 @@
 #include "app/simulation.hpp"
 #include "app/sweep.hpp"
 #include "core/build_info.hpp"
+#include "core/vector_isa.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/units.hpp"
@@ -73,7 +74,10 @@ int cmd_report(const std::string& dir) {
 
 int main(int argc, char** argv) {
   CLI::App app{"sphdisk: parallel SPH for viscous accretion discs"};
-  app.set_version_flag("--version", "sphdisk " + std::string(sphdisk::code_version()) + "\nbuild: " + sphdisk::build_options(),
+  app.set_version_flag("--version",
+                       "sphdisk " + std::string(sphdisk::code_version()) + "\nbuild: " + sphdisk::build_options() +
+                           "\nvector loops on this CPU: " + sphdisk::vector_isa_name(sphdisk::vector_isa()) +
+                           " (chosen at run time; every path gives the same bits)",
                        "print the code version and build options, then exit");
   app.require_subcommand(1);
 
