@@ -5,7 +5,7 @@
 // most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
 // scattered one at a time; in 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) eight
 // partners are gathered and their terms formed at once, then added pair by pair in list order; with
-// AVX2 only, the scalar gradient loop runs compiled for AVX2 (the force loop stays baseline).
+// AVX2 only, the scalar gradient loop runs compiled for AVX2 and the forces four partners at a time.
 // Both paths give the same bits: the same operations in the same order (i's sum takes the partners
 // in list order; a partner's sum gets one addition per pair, as before), with floating-point
 // contraction off in list_sums.cpp, and the tests compare the two. The vector path covers the
@@ -94,23 +94,25 @@ struct ForceListData {
 };
 
 // The pair terms of forces.hpp (eq. 6 and the pressure force) for one list: i's to ai and du_i.
-template <int D>
-void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
-                           std::span<const float> F, Vec<D>& ai, double& du_i) {
+// The two switches are template arguments so that the ring's case (neither) runs a loop without
+// their tests (force_list_terms), chosen once per list by add_force_list_scalar.
+template <int D, bool Pressure, bool Correction>
+void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                      std::span<const float> F, Vec<D>& ai, double& du_i) {
   const Vec<D> xi = d.pos[i], vi = d.vel[i];
   const Mat<D> Si = as_double(d.stress[i]);
   const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
-  const double Pr_i = d.with_pressure ? d.p_over_rho2[i] : 0.0;
+  const double Pr_i = Pressure ? d.p_over_rho2[i] : 0.0;
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
     Vec<D> g = (xi - d.pos[j]) * static_cast<double>(F[q]);
-    if (d.force_correction) g = corrected_pair_gradient(as_double(d.correction[i]), as_double(d.correction[j]), g);
+    if constexpr (Correction) g = corrected_pair_gradient(as_double(d.correction[i]), as_double(d.correction[j]), g);
     Mat<D> X;
     const Mat<D> Sj = as_double(d.stress[j]);
     for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * d.inv_rho[j] + Sj.c[c] * inv_rho_i;
     Vec<D> f = contract(X, g);
     const double mj = d.mass[j];
-    if (d.with_pressure) {
+    if constexpr (Pressure) {
       f -= g * (Pr_i + d.p_over_rho2[j]);
       const double work = dot(vi - d.vel[j], g);
       du_i += Pr_i * mj * work;
@@ -121,8 +123,19 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
   }
 }
 
-// 2D: the vector path where the CPU has AVX-512 (and the case is covered) or, for the gradient, AVX2;
-// else the scalar loop.
+template <int D>
+void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                           std::span<const float> F, Vec<D>& ai, double& du_i) {
+  if (d.with_pressure) {
+    if (d.force_correction) return force_list_terms<D, true, true>(d, i, js, F, ai, du_i);
+    return force_list_terms<D, true, false>(d, i, js, F, ai, du_i);
+  }
+  if (d.force_correction) return force_list_terms<D, false, true>(d, i, js, F, ai, du_i);
+  force_list_terms<D, false, false>(d, i, js, F, ai, du_i);
+}
+
+// 2D: the vector paths where the CPU has AVX-512 or AVX2 (and the case is covered), else the scalar
+// loop.
 void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<2>& sum_i);
 void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
