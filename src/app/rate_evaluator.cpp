@@ -201,7 +201,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     append_neighbour_lists(grid_, p.pos, active, search_radius_, candidates_, active < owned ? active : SIZE_MAX);
   }
   // Each pair once, from the gather lists (pair_lists.hpp).
-  build_tile_order(grid_, tile_cells(), active, pairs_lists_);
+  build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
   if (reusable) {  // the lists hold every pair closer than either particle's gather radius
     listed_h_.resize(owned);
     for (std::size_t i = 0; i < owned; ++i) listed_h_[i] = 0.5 * kept_[i];

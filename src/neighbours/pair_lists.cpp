@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <memory>
 #include <stdexcept>
 
 #include "core/snug_resize.hpp"
@@ -84,10 +85,6 @@ void for_each_tile_row(const CellGrid<D>& g, const TileLayout<D>& L, std::size_t
   }
 }
 
-struct Transposed {
-  std::uint32_t target, source;  // target comes first in cell order and its own list lacks the pair
-  bool far;
-};
 
 }  // namespace
 
@@ -105,6 +102,7 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   const TileLayout<D> L = tile_layout(grid, std::max(tile_cells, 1));
   out.tile_cells = L.T;
   out.tile_length = L.T * grid.cell_size;
+  out.writes = writes;
   const std::size_t ntiles = L.size();
 
   // Tile order: tile sizes, then each tile's slots copied in parallel.
@@ -157,129 +155,103 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   }
 }
 
-// The half lists of the pairs in the gather lists `src` (lists of the particles [0, src.size()),
-// each in cell order as the neighbour search gives them, entry j of i's list within 2 h_i): an entry
-// j of i's list that comes later in cell order stays in i's half list (in list order); an earlier
-// one is handed to j (transposed) where j's own list lacks i (|x_i - x_j| >= 2 h_j,
-// earlier_partners in candidate_scan.hpp), else dropped (j has it). Handed-over partners
-// follow j's own, in cell order. Pairs of two unwritable particles are dropped. within_tile(i):
-// whether i's whole list lies within one tile length of it, so that every partner is in the same or
-// an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and the tiles need not
-// be compared (all but the ~1% widest supports).
+// The half lists of the pairs in the gather lists `src` (lists of every particle of the grid, each
+// in cell order as the neighbour search gives them, entry j of i's list within 2 h_i): an entry j of
+// i's list that comes later in cell order stays in i's half list; an earlier one stays too where j's
+// own list lacks i (|x_i - x_j| >= 2 h_j, earlier_partners in candidate_scan.hpp: the pair is seen
+// by i's support only, ~15% of the pairs on the 100k ring), else it is dropped (j lists i and keeps
+// the pair). So each pair belongs to the first particle whose list holds it, and every half list is
+// a filtered copy of its gather list, in the same order, built block by block in parallel. As an
+// owner may come second in cell order, its pairs write to tiles on both sides: the schedule must
+// be TileWrites::AllNeighbours. Pairs of two unwritable particles are dropped.
+// within_tile(i): whether i's whole list lies within one tile length of it, so that every partner
+// is in the same or an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and
+// the tiles need not be compared (all but the ~1% widest supports).
 template <int D, class WithinTile>
 void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
                      WithinTile&& within_tile) {
-  const std::size_t n = out.order.size();
+  const std::size_t n = src.size();
   const std::size_t m = out.writable;
-  const std::size_t ns = src.size();
   const std::vector<std::uint32_t>& slot = out.slot;
   const std::int32_t* tile = out.tile.data();
-  const std::size_t nblocks = (ns + kBlock - 1) / kBlock;
+  const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   struct Block {
-    std::vector<std::uint32_t> near, far, near_start, far_start;  // starts: per particle of the block, + end
-    std::vector<Transposed> transposed;
+    // The block's near lists, one after the other (not zero-filled: every entry is written before
+    // it is read), their counts, and the same for the far lists.
+    std::unique_ptr<std::uint32_t[]> near;
+    std::size_t near_used = 0;
+    std::vector<std::uint32_t> far, near_count, far_count;
   };
   std::vector<Block> blocks(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
-    std::vector<std::uint32_t> lacking;  // of one list
-    const std::size_t i0 = b * kBlock, i1 = std::min(ns, i0 + kBlock);
-    // At most every listed partner stays: reserved once, so that appending never reallocates (the
-    // moves of a growing vector were ~1% of a block-timestep run).
-    B.near.reserve(src.offsets[i1] - src.offsets[i0]);
-    B.near_start.reserve(i1 - i0 + 1);
-    B.far_start.reserve(i1 - i0 + 1);
-    B.near_start.assign(1, 0);
-    B.far_start.assign(1, 0);
+    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    // At most every listed partner stays: sized once, so that appending never reallocates; the
+    // vector search writes up to kScanSlack entries beyond its last one.
+    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(src.offsets[i1] - src.offsets[i0] + kScanSlack);
+    B.near_count.resize(i1 - i0);
+    B.far_count.resize(i1 - i0);
+    std::size_t end = 0;
     for (std::size_t i = i0; i < i1; ++i) {
       const bool i_writable = i < m;
-      // The list is in cell order (the search scans rows of cells in order), so its later
-      // partners are its tail; the earlier ones are handed to them where their own lists lack i
-      // (rare). Pairs of two unwritable particles are left out.
       const std::uint32_t* first = src.begin(i);
       const std::uint32_t* last = src.end(i);
       assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
       const auto listed = static_cast<std::size_t>(last - first);
-      if (lacking.size() < listed + kScanSlack) lacking.resize(2 * (listed + kScanSlack));
       const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);
+      // The earlier partners that j's list lacks, written straight to the block's lists.
+      const std::size_t before = end, far_before = B.far.size();
       EarlierPartners e;
       if constexpr (D == 2)
-        e = earlier_partners(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, lacking.data());
+        e = earlier_partners(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, B.near.get() + end);
       else
-        e = earlier_partners_scalar<D>(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, lacking.data());
+        e = earlier_partners_scalar<D>(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, B.near.get() + end);
+      end += e.lacking;
       const std::uint32_t* later = first + e.count;
-      for (std::size_t k = 0; k < e.lacking; ++k) {
-        const std::uint32_t j = lacking[k];
-        B.transposed.push_back({j, static_cast<std::uint32_t>(i), !tiles_adjacent<D>(tile + D * i, tile + D * j)});
-      }
-      // Later partners stay: all of them near (copied as they are) for a writable particle within
-      // one tile length; else sorted into near and far, and pairs of two unwritable ones dropped.
-      std::size_t end = B.near.size();
-      if (i_writable && within_tile(i)) {
-        B.near.insert(B.near.end(), later, last);
-      } else {
-        B.near.resize(end + static_cast<std::size_t>(last - later));
-        for (const std::uint32_t* it = later; it != last; ++it) {  // branch-free append of the near ones
-          const std::uint32_t j = *it;
+      std::copy(later, last, B.near.get() + end);
+      end += static_cast<std::size_t>(last - later);
+      // All near for a writable particle within one tile length; else sorted into near and far
+      // (branch-free for the near ones), and pairs of two unwritable ones dropped (the lacking
+      // ones are writable already: earlier_partners' limit).
+      if (!(i_writable && within_tile(i))) {
+        std::size_t kept = before;
+        for (std::size_t k = before; k < end; ++k) {
+          const std::uint32_t j = B.near[k];
           const bool near = tiles_adjacent<D>(tile + D * i, tile + D * j);
           const bool wanted = i_writable | (j < m);
-          B.near[end] = j;
-          end += static_cast<std::size_t>(near & wanted);
+          B.near[kept] = j;
+          kept += static_cast<std::size_t>(near & wanted);
           if (!near && wanted) B.far.push_back(j);
         }
-        B.near.resize(end);
+        end = kept;
       }
-      B.near_start.push_back(static_cast<std::uint32_t>(B.near.size()));
-      B.far_start.push_back(static_cast<std::uint32_t>(B.far.size()));
+      B.near_count[i - i0] = static_cast<std::uint32_t>(end - before);
+      B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
+    B.near_used = end;
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
-  // Transposed pairs grouped by target (counting sort in block order), each group in cell order.
-  std::vector<std::size_t> tstart(n + 1, 0);
-  for (const Block& B : blocks)
-    for (const Transposed& p : B.transposed) ++tstart[p.target + 1];
-  for (std::size_t k = 0; k < n; ++k) tstart[k + 1] += tstart[k];
-  std::vector<Transposed> tsorted(tstart[n]);
-  {
-    std::vector<std::size_t> fill(tstart.begin(), tstart.end() - 1);
-    for (const Block& B : blocks)
-      for (const Transposed& p : B.transposed) tsorted[fill[p.target]++] = p;
-  }
-  par::for_each(n, [&](std::size_t k) {
-    std::sort(tsorted.begin() + static_cast<std::ptrdiff_t>(tstart[k]), tsorted.begin() + static_cast<std::ptrdiff_t>(tstart[k + 1]),
-              [&](const Transposed& a, const Transposed& b) { return slot[a.source] < slot[b.source]; });
-  });
-
-  // Join: each particle's own entries, then those handed to it; offsets serially, entries in parallel.
-  auto own = [&](std::size_t i, bool far) -> std::pair<const std::uint32_t*, const std::uint32_t*> {
-    if (i >= ns) return {nullptr, nullptr};
-    const Block& B = blocks[i / kBlock];
-    const std::size_t k = i % kBlock;
-    const auto& start = far ? B.far_start : B.near_start;
-    const std::uint32_t* base = far ? B.far.data() : B.near.data();
-    return {base + start[k], base + start[k + 1]};
-  };
+  // Join: offsets serially, then each block's lists (contiguous, in particle order) in parallel.
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     nl->offsets.resize(n + 1);
     nl->offsets[0] = 0;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    std::size_t nf = 0;
-    for (std::size_t k = tstart[i]; k < tstart[i + 1]; ++k) nf += tsorted[k].far;
-    const auto [a0, a1] = own(i, false);
-    const auto [f0, f1] = own(i, true);
-    out.near.offsets[i + 1] = out.near.offsets[i] + static_cast<std::size_t>(a1 - a0) + (tstart[i + 1] - tstart[i]) - nf;
-    out.far.offsets[i + 1] = out.far.offsets[i] + static_cast<std::size_t>(f1 - f0) + nf;
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    const std::size_t i0 = b * kBlock;
+    const Block& B = blocks[b];
+    for (std::size_t k = 0; k < B.near_count.size(); ++k) {
+      out.near.offsets[i0 + k + 1] = out.near.offsets[i0 + k] + B.near_count[k];
+      out.far.offsets[i0 + k + 1] = out.far.offsets[i0 + k] + B.far_count[k];
+    }
   }
   resize_snug(out.near.index, out.near.offsets[n]);
   resize_snug(out.far.index, out.far.offsets[n]);
-  par::for_each(n, [&](std::size_t i) {
-    const auto [a0, a1] = own(i, false);
-    const auto [f0, f1] = own(i, true);
-    std::uint32_t* a = std::copy(a0, a1, out.near.index.data() + out.near.offsets[i]);
-    std::uint32_t* f = std::copy(f0, f1, out.far.index.data() + out.far.offsets[i]);
-    for (std::size_t e = tstart[i]; e < tstart[i + 1]; ++e) *(tsorted[e].far ? f++ : a++) = tsorted[e].source;
+  par::for_each(nblocks, [&](std::size_t b) {
+    const Block& B = blocks[b];
+    const std::size_t i0 = b * kBlock;
+    std::copy_n(B.near.get(), B.near_used, out.near.index.data() + out.near.offsets[i0]);
+    std::copy(B.far.begin(), B.far.end(), out.far.index.data() + out.far.offsets[i0]);
   });
 }
 
@@ -288,6 +260,8 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
                                   const std::vector<double>& h, PairLists& out) {
   if (gather.size() != out.order.size())
     throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
+  if (out.writes != TileWrites::AllNeighbours)
+    throw std::logic_error("build_half_lists_from_gather: the tile order needs TileWrites::AllNeighbours (a pair may belong to its second particle)");
   // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
   // i's list reaches 2 h_i; the margin covers the round-off of the cell coordinates.
   const double within = (1.0 - 1e-9) * out.tile_length;
@@ -353,6 +327,7 @@ void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& 
   out.tile = listed.tile;
   out.tile_cells = listed.tile_cells;
   out.tile_length = listed.tile_length;
+  out.writes = listed.writes;
   const auto interacting = [&](std::size_t i, std::uint32_t j) {
     const double reach = 2.0 * std::max(h[i], h[j]);
     return norm2(pos[i] - pos[j]) < reach * reach;

@@ -3,16 +3,18 @@
 // both particles (P98 sec. 4.1 visited every pair from both sides and lost up to 2x, Fig. 4), and
 // the schedule that does this on threads with the same bits for any thread or rank count.
 //
-// A pair belongs to the particle that comes first in cell order (the grid's order: cells of the
-// shared lattice x fastest, by x and ID inside a cell), so its partners lie in its own row of cells
-// or the rows above: the half stencil of the symmetric sequential code. Tiles are blocks of T^D
-// cells; a tile's task evaluates the pairs of its particles (in cell order) and, for near pairs
-// (tiles equal or adjacent), writes only to its own tile, its row neighbours x-1 and x+1 and the
-// three tiles of the next row (in 3D also the 9 tiles of the next layer). Tiles coloured
-// (tx mod 3, ty mod 2) in 2D and (tx mod 3, ty mod 3, tz mod 2) in 3D never write to a common tile
-// within a colour, so a colour's tiles run in parallel without locks or atomics, and every particle
-// receives its pair terms in a fixed order: colour by colour (the tiles that write to it all have
-// different colours), inside a tile in cell order. Far pairs (tiles not adjacent: a particle whose
+// With one search radius (build_half_neighbour_lists) a pair belongs to the particle that comes
+// first in cell order (the grid's order: cells of the shared lattice x fastest, by x and ID inside a
+// cell), so its partners lie in its own row of cells or the rows above: the half stencil of the
+// symmetric sequential code. Tiles are blocks of T^D cells; a tile's task evaluates the pairs of its
+// particles (in cell order) and, for near pairs (tiles equal or adjacent), writes only to its own
+// tile, its row neighbours x-1 and x+1 and the three tiles of the next row (in 3D also the 9 tiles
+// of the next layer). Tiles coloured (tx mod 3, ty mod 2) in 2D and (tx mod 3, ty mod 3, tz mod 2)
+// in 3D never write to a common tile within a colour, so a colour's tiles run in parallel without
+// locks or atomics, and every particle receives its pair terms in a fixed order: colour by colour
+// (the tiles that write to it all have different colours), inside a tile in cell order. Half lists
+// made from gather lists (variable h) may give a pair to its second particle; their tiles write to
+// every adjacent tile and are coloured (tx mod 3, ty mod 3) (TileWrites::AllNeighbours). Far pairs (tiles not adjacent: a particle whose
 // support is much wider than a tile) follow all colours, in tile order. Nothing in the order
 // depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
 // relative order).
@@ -30,6 +32,12 @@
 
 namespace sphdisk {
 
+// Which tiles a tile's pairs write to: itself and the tiles after it (x-1, x+1 and the next row;
+// half lists searched with one radius, a pair owned by its first particle), or every adjacent tile
+// (half lists from gather lists, and pairs searched anew by the pair loops, pair_scan.hpp: the
+// owner may come second). The second needs 9 colours in 2D (27 in 3D) instead of 6 (18).
+enum class TileWrites { Forward, AllNeighbours };
+
 struct PairLists {
   NeighbourLists near, far;               // half lists of every particle (the grid's particles)
   std::vector<std::uint32_t> order;       // particles in tile order
@@ -41,16 +49,12 @@ struct PairLists {
   std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
   int tile_cells = 1;                     // cells per tile and dimension
   double tile_length = 0;                 // tile_cells x the grid's cell size
+  TileWrites writes = TileWrites::Forward;  // which tiles a tile's pairs may write to (the colouring)
 
   std::size_t total() const { return near.total() + far.total(); }  // pairs; also the pair-factor count
   std::size_t bytes() const;
 };
 
-// Which tiles a tile's pairs write to: itself and the tiles after it (x-1, x+1 and the next row;
-// half lists, a pair owned by its first particle), or every adjacent tile (pairs searched anew by
-// the pair loops, pair_scan.hpp, whose owner may come second). The second needs 9 colours in 2D
-// (27 in 3D) instead of 6 (18).
-enum class TileWrites { Forward, AllNeighbours };
 
 // Step 1: the tile order of the grid's particles (order, tiles, colours, slots) with tiles of
 // tile_cells^D cells; pair terms are wanted for the particles [0, writable).
@@ -62,7 +66,9 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // the j with |x_i - x_j| < 2 h_i (ghosts' and inactive particles' restricted to writable partners,
 // or not). Pairs interact when |x_i - x_j| < 2 max(h_i, h_j) (interaction through i's own support
 // or through j's; the pair-averaged kernel gradient keeps every pair term antisymmetric,
-// Hernquist & Katz 1989), so a pair in only one gather list is handed to its first particle.
+// Hernquist & Katz 1989). A pair belongs to the first particle in cell order whose gather list
+// holds it, which may be the second particle of the pair: `out`'s tile order must have been built
+// with TileWrites::AllNeighbours.
 template <int D>
 void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out);

@@ -37,7 +37,7 @@ void check_interaction_pairs(const Particles<D>& p, const std::vector<double>& h
   NeighbourLists gather;
   build_neighbour_lists(grid, p.pos, radius, gather);
   PairLists pairs;
-  build_tile_order(grid, tile_cells, p.size(), pairs);
+  build_tile_order(grid, tile_cells, p.size(), pairs, TileWrites::AllNeighbours);
   build_half_lists_from_gather(gather, p.pos, h, pairs);
   std::vector<std::vector<std::uint32_t>> got(p.size());
   for_each_pair(pairs, [&](std::uint32_t i, std::uint32_t j, std::size_t) {

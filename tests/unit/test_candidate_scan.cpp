@@ -165,7 +165,7 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     PairLists from_gather;  // half lists assembled from the gather lists, supports h = radius / 2
     std::vector<double> h(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) h[i] = 0.4 * radius[i];  // the settled radius, 0.8 x searched
-    build_tile_order(grid, 4, p.size() * 3 / 4, from_gather);
+    build_tile_order(grid, 4, p.size() * 3 / 4, from_gather, TileWrites::AllNeighbours);
     build_half_lists_from_gather(gather, p.pos, h, from_gather);
     limit_vector_isa(VectorIsa::avx512);
     return std::tuple{gather, half, from_gather};

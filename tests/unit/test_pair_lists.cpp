@@ -26,17 +26,26 @@ struct HalfListSetup {
   CellGrid<D> grid;
   NeighbourLists gather;
   PairLists pairs;
-  // unlisted_radius: the gather radius of the other particles (default: radius).
-  HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells, double unlisted_radius = 0)
+  std::vector<double> radii;  // each particle's gather radius, 2 h
+  // unlisted_radius: the gather radius of the other particles (default: radius). spread: the
+  // listed particles' radii vary at random by up to this fraction (as adaptive h does), so that
+  // many pairs lie in one gather list only and some belong to their second particle.
+  HalfListSetup(Particles<D> particles, double radius, std::size_t listed, int tile_cells, double unlisted_radius = 0,
+                double spread = 0)
       : p(std::move(particles)) {
     const std::size_t n = p.size();
     if (unlisted_radius == 0) unlisted_radius = radius;
-    std::vector<double> radii(n, unlisted_radius), h(n);
-    std::fill_n(radii.begin(), std::min(listed, n), radius);
+    radii.assign(n, unlisted_radius);
+    std::vector<double> h(n);
+    std::mt19937_64 g(5);
+    std::uniform_real_distribution<double> u(-spread, spread);
+    for (std::size_t i = 0; i < std::min(listed, n); ++i) radii[i] = radius * (1.0 + u(g));
     for (std::size_t i = 0; i < n; ++i) h[i] = 0.5 * radii[i];
     build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
-    build_tile_order(grid, tile_cells, listed, pairs);
-    build_neighbour_lists(grid, p.pos, radius, gather, listed);
+    build_tile_order(grid, tile_cells, listed, pairs, TileWrites::AllNeighbours);
+    build_neighbour_lists(grid, p.pos, radii, gather);
+    gather.offsets.resize(std::min(listed, n) + 1);  // the listed particles' lists, then the others'
+    gather.index.resize(gather.offsets.back());
     append_neighbour_lists(grid, p.pos, listed, radii, gather, listed < n ? listed : SIZE_MAX);
     build_half_lists_from_gather(gather, p.pos, h, pairs);
   }
@@ -44,11 +53,11 @@ struct HalfListSetup {
 
 template <int D>
 void check_every_pair_once(Particles<D> particles, double radius, std::size_t listed, int tile_cells,
-                           bool expect_far, double unlisted_radius = 0) {
-  HalfListSetup<D> s(std::move(particles), radius, listed, tile_cells, unlisted_radius);
+                           bool expect_far, double unlisted_radius = 0, double spread = 0) {
+  HalfListSetup<D> s(std::move(particles), radius, listed, tile_cells, unlisted_radius, spread);
   const std::size_t n = s.p.size();
   ASSERT_EQ(s.pairs.writable, listed);
-  const auto radius_of = [&](std::uint32_t i) { return i < listed || unlisted_radius == 0 ? radius : unlisted_radius; };
+  const auto radius_of = [&](std::uint32_t i) { return s.radii[i]; };
   std::set<std::pair<std::uint32_t, std::uint32_t>> expected, got;
   for (std::uint32_t i = 0; i < n; ++i)
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -67,10 +76,30 @@ void check_every_pair_once(Particles<D> particles, double radius, std::size_t li
   EXPECT_GT(expected.size(), n);  // dense enough to mean something
 }
 
+// Pairs listed with their second particle in cell order (those only its gather list holds).
+template <int D>
+std::size_t pairs_owned_by_second(const HalfListSetup<D>& s) {
+  std::size_t count = 0;
+  for (const NeighbourLists* nl : {&s.pairs.near, &s.pairs.far})
+    for (std::size_t i = 0; i < nl->size(); ++i)
+      for (const std::uint32_t* j = nl->begin(i); j != nl->end(i); ++j) count += s.pairs.slot[*j] < s.pairs.slot[i];
+  return count;
+}
+
 }  // namespace
 
 TEST(PairLists, EveryPairOnce2D) { check_every_pair_once(test::random_particles<2>(1500, 11, true), 0.04, 1500, 2, false); }
 TEST(PairLists, EveryPairOnce3D) { check_every_pair_once(test::random_particles<3>(1500, 12, false), 0.12, 1500, 2, false); }
+// Radii that differ from particle to particle (adaptive h): a pair within only one particle's
+// radius is listed once, by that particle, also where it comes second. Radii above the mean reach
+// beyond the next tile, so there are far pairs too.
+TEST(PairLists, EveryPairOnceWithVariableRadii) {
+  check_every_pair_once(test::random_particles<2>(1500, 31, true), 0.04, 1500, 2, true, 0, 0.3);
+  check_every_pair_once(test::random_particles<2>(1500, 32, true), 0.04, 1000, 2, true, 0.06, 0.3);
+  check_every_pair_once(test::random_particles<2>(1500, 33, true), 0.04, 1500, 1, true, 0, 0.3);
+  check_every_pair_once(test::random_particles<3>(1500, 34, false), 0.12, 1500, 2, true, 0, 0.3);
+}
+
 TEST(PairLists, EveryPairWithAListedParticleOnce) {
   check_every_pair_once(test::random_particles<2>(1500, 13, true), 0.04, 900, 4, false);
   check_every_pair_once(test::random_particles<3>(1500, 14, true), 0.08, 700, 2, false);
@@ -103,9 +132,10 @@ TEST(PairLists, PairsBeyondTheNextTileAreFarPairs) {
 
 // Within a colour no two tiles write to the same particle (so they may run concurrently).
 template <int D>
-void check_colours_write_disjoint(Particles<D> particles, double radius, int tile_cells) {
+void check_colours_write_disjoint(Particles<D> particles, double radius, int tile_cells, double spread = 0) {
   const std::size_t n = particles.size();
-  HalfListSetup<D> s(std::move(particles), radius, n, tile_cells);
+  HalfListSetup<D> s(std::move(particles), radius, n, tile_cells, 0, spread);
+  if (spread > 0) ASSERT_GT(pairs_owned_by_second(s), n / 10);  // pairs that write backwards
   const PairLists& pl = s.pairs;
   ASSERT_GT(pl.colour_start.size(), 2u);
   for (std::size_t c = 0; c + 1 < pl.colour_start.size(); ++c) {
@@ -127,12 +157,16 @@ void check_colours_write_disjoint(Particles<D> particles, double radius, int til
 TEST(PairLists, TilesOfOneColourWriteToDisjointParticles) {
   for (int tile_cells : {1, 2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 17, true), 0.03, tile_cells);
   for (int tile_cells : {1, 2}) check_colours_write_disjoint(test::random_particles<3>(3000, 23, true), 0.08, tile_cells);
+  for (int tile_cells : {1, 2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 24, true), 0.03, tile_cells, 0.3);
+  check_colours_write_disjoint(test::random_particles<3>(3000, 25, true), 0.08, 2, 0.3);
 }
 
 // A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.
 TEST(PairLists, SameOrderOfPairTermsForAnyThreadCount) {
-  HalfListSetup<2> s(test::random_particles<2>(4000, 18, true), 0.03, 4000, 1);  // with far pairs
+  // With far pairs, and pairs that belong to their second particle (radii vary by 30%).
+  HalfListSetup<2> s(test::random_particles<2>(4000, 18, true), 0.03, 4000, 1, 0, 0.3);
   ASSERT_GT(s.pairs.far.total(), 0u);
+  ASSERT_GT(pairs_owned_by_second(s), 400u);
   auto sums = [&](int threads) {
     par::set_threads(threads);
     std::vector<double> acc(s.p.size(), 0.0);
@@ -199,7 +233,7 @@ void check_keep_interacting_pairs(Particles<D> p, double h0, int tile_cells) {
   CellGrid<D> grid;
   build_cell_grid(p.pos, p.id, h0, grid);
   PairLists listed, kept;
-  build_tile_order(grid, tile_cells, n, listed);
+  build_tile_order(grid, tile_cells, n, listed, TileWrites::AllNeighbours);
   NeighbourLists gather;
   build_neighbour_lists(grid, p.pos, gather_radius, gather);
   build_half_lists_from_gather(gather, p.pos, listed_h, listed);

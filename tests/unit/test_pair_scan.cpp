@@ -177,11 +177,14 @@ TEST(PairScan, SameOrderOfPairTermsForAnyThreadCount) {
 
 namespace {
 
-// Rates with pairs searched anew equal those with stored lists, to round-off (the same pairs,
-// summed in another order; the smoothing lengths are solved from the same candidates in the same
-// order, so they are identical), with viscosity and pressure, starting from h = h0: on all
-// particles and on the first `active` (block timesteps; the second evaluation starts from the first's
-// h and rho, inactive particles' included), with and without the force correction.
+// Rates with pairs searched anew equal those with stored lists, with viscosity and pressure,
+// starting from h = h0: on all particles and on the first `active` (block timesteps; the second
+// evaluation starts from the first's h and rho, inactive particles' included), with and without the
+// force correction. With adaptive h bit for bit: the smoothing lengths are solved from the same
+// candidates in the same order, both sources give each pair to the same particle (the first in
+// cell order whose support holds it) on the same tile schedule, and list each particle's partners
+// in cell order, so every sum adds the same terms in the same order. With one h to round-off: the
+// stored lists' schedule writes forward only, so the terms arrive in another order.
 template <int D>
 void check_rates_equal_stored(Particles<D> p0, double h0, Smoothing smoothing, bool force_correction, std::size_t active) {
   std::fill(p0.h.begin(), p0.h.end(), h0);
@@ -205,6 +208,15 @@ void check_rates_equal_stored(Particles<D> p0, double h0, Smoothing smoothing, b
   for (std::size_t i = 0; i < p0.size(); ++i) {
     acc_scale = std::max(acc_scale, norm(stored_p.acc[i]));
     du_scale = std::max(du_scale, std::abs(stored_p.du_dt[i]));
+  }
+  if (smoothing == Smoothing::Adaptive) {
+    for (std::size_t i = 0; i < p0.size(); ++i) {
+      ASSERT_EQ(scanned_p.h[i], stored_p.h[i]) << "particle " << i;
+      ASSERT_EQ(scanned_p.rho[i], stored_p.rho[i]) << "particle " << i;
+      ASSERT_EQ(scanned_p.acc[i], stored_p.acc[i]) << "particle " << i;
+      ASSERT_EQ(scanned_p.du_dt[i], stored_p.du_dt[i]) << "particle " << i;
+      ASSERT_EQ(scanned_p.stress[i].c, stored_p.stress[i].c) << "particle " << i;
+    }
   }
   for (std::size_t i = 0; i < p0.size(); ++i) {
     ASSERT_EQ(scanned_p.h[i], stored_p.h[i]) << "particle " << i;
