@@ -167,7 +167,9 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     {
       ScopedPhase t(timers_, "neighbour_search");
       if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
-      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active);
+      // Left in the search's blocks unless reused lists will be read again (the half lists read
+      // them there; appending joins them).
+      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable);
     }
     smoothing_length_sums_ += sums.load();
     if (!domain_) break;

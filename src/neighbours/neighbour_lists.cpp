@@ -15,7 +15,7 @@ namespace sphdisk {
 
 namespace {
 
-constexpr std::size_t kBlock = 512;  // particles per work unit; lists are made per block, then joined
+constexpr std::size_t kBlock = NeighbourLists::kBlock;  // lists are made per block, then joined (or not)
 
 struct KeepAll {
   double operator()(std::size_t, std::span<const std::uint32_t>, std::span<const double>, double radius) const { return radius; }
@@ -130,10 +130,11 @@ std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1
 // may be i's neighbours: every j other than accept.self(i) below accept.limit(i).
 // kKeep = false: nothing is listed; only settle sees each particle's candidates (its smoothing-length
 // solve), and at most one particle's candidates are held at a time.
+// join = false: the lists stay in the blocks (NeighbourLists::joined).
 template <bool kKeep = true, int D, class Radius, class Settle, class Accept = AllOthers>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
                  Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
-                 const Accept& accept = {}) {
+                 const Accept& accept = {}, bool join = true) {
   const bool filtered = !filter.slot_prefix.empty();
   const std::uint32_t below = filter.below;  // a local: the stores to the lists below could alias filter.below
   const std::size_t n = last - first;
@@ -232,15 +233,15 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
     for (const std::uint32_t c : block_count[b]) used += c;
     block_start[b + 1] = block_start[b] + used;
   }
-  resize_snug(nl.index, block_start[nblocks]);
   par::for_each(nblocks, [&](std::size_t b) {
-    std::copy_n(block_index[b].begin(), block_start[b + 1] - block_start[b], nl.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
     std::size_t off = block_start[b];
     for (std::size_t k = 0; k < block_count[b].size(); ++k) {
       off += block_count[b][k];
       nl.offsets[b * kBlock + k + 1] = off;
     }
   }, {}, 1);
+  nl.joined = false;
+  if (join) nl.join();
 }
 
 }  // namespace
@@ -267,9 +268,9 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& nl, std::size_t count) {
+                                   NeighbourLists& nl, std::size_t count, bool join) {
   build_lists(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; },
-              settle, nl);
+              settle, nl, CandidateFilter{}, AllOthers{}, join);
 }
 
 template <int D>
@@ -277,6 +278,17 @@ void settle_without_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& po
                           const SettleRadius& settle, std::size_t count) {
   NeighbourLists scratch;
   build_lists<false>(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; }, settle, scratch);
+}
+
+void NeighbourLists::join() {
+  if (joined) return;
+  const std::size_t n = size();
+  resize_snug(index, total());
+  par::for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
+    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    std::copy_n(block_index[b].data(), offsets[i1] - offsets[i0], index.data() + offsets[i0]);
+  }, {}, 1);
+  joined = true;
 }
 
 std::size_t NeighbourLists::bytes() const {
@@ -289,6 +301,7 @@ std::size_t NeighbourLists::bytes() const {
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
                             const std::vector<double>& radius, NeighbourLists& nl, std::size_t candidates_below) {
+  nl.join();  // its lists may still be in the block buffers that `more` is built in
   NeighbourLists more;  // the appended lists, built in nl's block buffers (see build_lists)
   more.block_index.swap(nl.block_index);
   more.block_count.swap(nl.block_count);
@@ -313,9 +326,9 @@ template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&);
 template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&, std::size_t);
+                                            const SettleRadius&, NeighbourLists&, std::size_t, bool);
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&, std::size_t);
+                                            const SettleRadius&, NeighbourLists&, std::size_t, bool);
 template void settle_without_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
                                    const SettleRadius&, std::size_t);
 template void settle_without_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,

@@ -15,18 +15,31 @@
 namespace sphdisk {
 
 struct NeighbourLists {
+  static constexpr std::size_t kBlock = 512;  // particles per work unit of the builders
   std::vector<std::size_t> offsets;    // size n + 1
-  std::vector<std::uint32_t> index;
+  std::vector<std::uint32_t> index;    // the lists, once joined
 
   std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
-  const std::uint32_t* begin(std::size_t i) const { return index.data() + offsets[i]; }
+  const std::uint32_t* begin(std::size_t i) const { return index.data() + offsets[i]; }  // joined lists only
   const std::uint32_t* end(std::size_t i) const { return index.data() + offsets[i + 1]; }
-  std::size_t total() const { return index.size(); }
+  std::size_t total() const { return offsets.empty() ? 0 : offsets.back(); }
 
-  // Builder scratch, one list per block of particles, kept between builds so that rebuilding
-  // reuses memory instead of faulting in fresh pages (which serialises threads in the kernel).
+  // Builder scratch, one buffer per block of kBlock particles, kept between builds so that
+  // rebuilding reuses memory instead of faulting in fresh pages (which serialises threads in the
+  // kernel). A block's lists are the first entries of its buffer, one after the other.
   std::vector<std::vector<std::uint32_t>> block_index, block_count;
+  // false: the lists are still in the blocks (index is not filled; begin/end may not be used).
+  // A reader that visits each list once (the half lists, pair_lists.hpp) reads them there through
+  // list(i), which spares the copy of every entry into index.
+  bool joined = true;
+
+  std::span<const std::uint32_t> list(std::size_t i) const {
+    if (joined) return {index.data() + offsets[i], count(i)};
+    const std::size_t b = i / kBlock;
+    return {block_index[b].data() + (offsets[i] - offsets[b * kBlock]), count(i)};
+  }
+  void join();  // copies the blocks' lists into index (in parallel); nothing if joined
 
   std::size_t bytes() const;  // memory held (capacities, builder scratch included)
 };
@@ -62,10 +75,11 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 using SettleRadius = std::function<double(std::size_t, std::span<const std::uint32_t>, std::span<const double>, double)>;
 
 // Lists are made for the first `count` particles (the rest, e.g. ghosts, are only candidates).
+// join = false leaves them in the builder's blocks (NeighbourLists::joined).
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& out, std::size_t count = SIZE_MAX);
+                                   NeighbourLists& out, std::size_t count = SIZE_MAX, bool join = true);
 
 // The same search with nothing listed: settle(i, candidates, dist2, radius) alone sees each particle's
 // candidates (the smoothing-length solve of a run that keeps no lists, pair_scan.hpp), and at most
@@ -77,7 +91,7 @@ void settle_without_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& po
 // Extends lists made for particles [0, first) with gather lists (|x_i - x_j| < radius[i]) of the
 // particles [first, pos.size()), holding only the neighbours with an index below candidates_below
 // (all by default; fewer when only those particles' pairs are wanted, e.g. the active ones of a
-// block timestep, and then the rows of cells without any are not scanned).
+// block timestep, and then the rows of cells without any are not scanned). Joins `out` first.
 template <int D>
 void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first,
                             const std::vector<double>& radius, NeighbourLists& out,

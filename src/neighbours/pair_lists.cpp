@@ -194,8 +194,9 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
     std::size_t end = 0;
     for (std::size_t i = i0; i < i1; ++i) {
       const bool i_writable = i < m;
-      const std::uint32_t* first = src.begin(i);
-      const std::uint32_t* last = src.end(i);
+      const std::span<const std::uint32_t> own = src.list(i);  // joined or still in the search's blocks
+      const std::uint32_t* first = own.data();
+      const std::uint32_t* last = first + own.size();
       assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
       const auto listed = static_cast<std::size_t>(last - first);
       const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);

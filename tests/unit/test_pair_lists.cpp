@@ -265,3 +265,44 @@ void check_keep_interacting_pairs(Particles<D> p, double h0, int tile_cells) {
 
 TEST(PairLists, KeepInteractingPairs2D) { check_keep_interacting_pairs(test::random_particles<2>(1500, 18, true), 0.012, 1); }
 TEST(PairLists, KeepInteractingPairs3D) { check_keep_interacting_pairs(test::random_particles<3>(1500, 19, false), 0.04, 1); }
+
+// Gather lists left in the search's blocks (build_settled_neighbour_lists with join = false) read
+// the same through list(i) as once joined, and give the same half lists: the run's path (lists
+// read in their blocks) against the joined one. 5,000 particles: ten blocks.
+TEST(PairLists, GatherListsReadInTheirBlocksEqualJoinedOnes) {
+  const auto p = test::random_particles<2>(5000, 41, true);
+  const auto grid = build_cell_grid(p.pos, p.id, 0.02);
+  std::vector<double> radius(p.size()), h(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    radius[i] = 0.03 + 0.02 * static_cast<double>(i % 7) / 7.0;
+    h[i] = 0.4 * radius[i];
+  }
+  const SettleRadius settle = [](std::size_t, std::span<const std::uint32_t>, std::span<const double>, double searched) {
+    return 0.8 * searched;  // drop the outer candidates (lists of varying length in each block)
+  };
+  NeighbourLists blocked, joined;
+  build_settled_neighbour_lists(grid, p.pos, radius, settle, blocked, p.size(), false);
+  build_settled_neighbour_lists(grid, p.pos, radius, settle, joined, p.size());
+  ASSERT_FALSE(blocked.joined);
+  ASSERT_TRUE(joined.joined);
+  ASSERT_GT(p.size(), 4 * NeighbourLists::kBlock);
+  EXPECT_EQ(blocked.offsets, joined.offsets);
+  EXPECT_GT(joined.total(), 10 * p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto a = blocked.list(i), b = joined.list(i);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "particle " << i;
+  }
+  auto half_lists = [&](const NeighbourLists& gather) {
+    PairLists pairs;
+    build_tile_order(grid, 4, p.size(), pairs, TileWrites::AllNeighbours);
+    build_half_lists_from_gather(gather, p.pos, h, pairs);
+    return pairs;
+  };
+  const PairLists from_blocked = half_lists(blocked), from_joined = half_lists(joined);
+  EXPECT_EQ(from_blocked.near.offsets, from_joined.near.offsets);
+  EXPECT_EQ(from_blocked.near.index, from_joined.near.index);
+  EXPECT_EQ(from_blocked.far.index, from_joined.far.index);
+  blocked.join();
+  EXPECT_TRUE(blocked.joined);
+  EXPECT_EQ(blocked.index, joined.index);
+}
