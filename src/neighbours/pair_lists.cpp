@@ -85,7 +85,6 @@ void for_each_tile_row(const CellGrid<D>& g, const TileLayout<D>& L, std::size_t
   }
 }
 
-
 }  // namespace
 
 std::size_t PairLists::bytes() const {
@@ -159,7 +158,7 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // in cell order as the neighbour search gives them, entry j of i's list within 2 h_i): an entry j of
 // i's list that comes later in cell order stays in i's half list; an earlier one stays too where j's
 // own list lacks i (|x_i - x_j| >= 2 h_j, earlier_partners in candidate_scan.hpp: the pair is seen
-// by i's support only, ~15% of the pairs on the 100k ring), else it is dropped (j lists i and keeps
+// by i's support only, ~14% of the pairs on the 100k ring), else it is dropped (j lists i and keeps
 // the pair). So each pair belongs to the first particle whose list holds it, and every half list is
 // a filtered copy of its gather list, in the same order, built block by block in parallel. As an
 // owner may come second in cell order, its pairs write to tiles on both sides: the schedule must
