@@ -261,8 +261,8 @@ void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D
 
 template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& radius,
-                           NeighbourLists& nl) {
-  build_lists(grid, pos, 0, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, nl);
+                           NeighbourLists& nl, std::size_t count) {
+  build_lists(grid, pos, 0, std::min(count, pos.size()), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, nl);
 }
 
 template <int D>
@@ -324,7 +324,7 @@ void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& 
 
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&, std::size_t);
-template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
                                             const SettleRadius&, NeighbourLists&, std::size_t, bool);
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
@@ -337,7 +337,7 @@ template void append_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
 template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, std::size_t,
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
-template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&);
+template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_half_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, const std::vector<std::uint32_t>&,
                                          std::size_t, NeighbourLists&);
 template void build_half_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, const std::vector<std::uint32_t>&,

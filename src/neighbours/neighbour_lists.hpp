@@ -61,9 +61,10 @@ void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D
 
 // Gather lists with a search radius per particle (variable smoothing lengths): j is in i's list
 // when |x_i - x_j| < radius[i]. The cell size may be smaller than the radii; more cells are scanned.
+// Lists are made for the first `count` particles (the rest are only candidates).
 template <int D>
 void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, const std::vector<double>& radius,
-                           NeighbourLists& out);
+                           NeighbourLists& out, std::size_t count = SIZE_MAX);
 
 // Gather lists whose radius each particle settles from its own candidates: particle i's
 // candidates within first_radius[i] are passed to settle(i, candidates, dist2, searched_radius),

@@ -43,9 +43,7 @@ struct HalfListSetup {
     for (std::size_t i = 0; i < n; ++i) h[i] = 0.5 * radii[i];
     build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
     build_tile_order(grid, tile_cells, listed, pairs, TileWrites::AllNeighbours);
-    build_neighbour_lists(grid, p.pos, radii, gather);
-    gather.offsets.resize(std::min(listed, n) + 1);  // the listed particles' lists, then the others'
-    gather.index.resize(gather.offsets.back());
+    build_neighbour_lists(grid, p.pos, radii, gather, listed);
     append_neighbour_lists(grid, p.pos, listed, radii, gather, listed < n ? listed : SIZE_MAX);
     build_half_lists_from_gather(gather, p.pos, h, pairs);
   }
