@@ -1,5 +1,8 @@
 #include "neighbours/candidate_scan.hpp"
 
+#include <algorithm>
+
+#include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
 
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): a product added to another must not be
@@ -25,7 +28,8 @@ std::size_t keep_from(std::uint32_t* idx, const double* d2, std::size_t k0, std:
 
 // Eight candidates per round: positions (x, y interleaved) loaded as two vectors and split into
 // x and y by permutes, the tests as one mask, the accepted indices and distances packed to the
-// front by compress and stored whole (the slack takes the rest). The last round masks its loads.
+// front by compress and stored whole (the slack takes the rest). Only the last round masks its
+// loads (masked loads are slow on AMD's AVX-512 CPUs: core/avx512_partner_loads.hpp).
 __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::uint32_t* js, const Vec<2>* xs,
                                                                      std::uint32_t s0, std::uint32_t s1,
                                                                      const ScanTarget<2>& t, std::uint32_t* out,
@@ -42,8 +46,9 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
     const auto live = static_cast<__mmask8>((1u << n) - 1u);
     const auto first4 = static_cast<__mmask8>((1u << (2 * (n < 4 ? n : 4))) - 1u);
     const auto last4 = static_cast<__mmask8>(n > 4 ? (1u << (2 * (n - 4))) - 1u : 0u);
-    const __m512d a = _mm512_maskz_loadu_pd(first4, base + 2 * std::size_t{s});
-    const __m512d b = _mm512_maskz_loadu_pd(last4, base + 2 * std::size_t{s} + 8);
+    const double* at = base + 2 * std::size_t{s};
+    const __m512d a = n == 8 ? _mm512_loadu_pd(at) : _mm512_maskz_loadu_pd(first4, at);
+    const __m512d b = n == 8 ? _mm512_loadu_pd(at + 8) : _mm512_maskz_loadu_pd(last4, at + 8);
     const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), x);
     const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), y);
 #ifdef __FMA__
@@ -51,7 +56,7 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
 #else
     const __m512d dist2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
 #endif
-    const __m256i j = _mm256_maskz_loadu_epi32(live, js + s);
+    const __m256i j = avx512::load_u32(js + s, n);
     __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, r2, _CMP_LT_OQ);
     keep = _mm256_mask_cmpneq_epu32_mask(keep, j, self);
     keep = _mm256_mask_cmplt_epu32_mask(keep, j, limit);
@@ -69,17 +74,19 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_
   std::size_t kept = 0;
   for (std::size_t k = 0; k < n; k += 8) {
     const auto live = static_cast<__mmask8>(n - k < 8 ? (1u << (n - k)) - 1u : 0xFFu);
-    const __m256i j = _mm256_maskz_loadu_epi32(live, idx + k);
-    const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, _mm512_maskz_loadu_pd(live, d2 + k), radius2, _CMP_LT_OQ);
+    const __m256i j = avx512::load_u32(idx + k, n - k);
+    const __m512d dist2 = n - k >= 8 ? _mm512_loadu_pd(d2 + k) : _mm512_maskz_loadu_pd(live, d2 + k);
+    const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, radius2, _CMP_LT_OQ);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(idx + kept), _mm256_maskz_compress_epi32(keep, j));
     kept += static_cast<std::size_t>(__builtin_popcount(keep));
   }
   return kept;
 }
 
-// The meeting point by counting the earlier entries eight at a time (their slots gathered: no chain
-// of dependent loads as in a bisection; the list is sorted, so the count stops at the first vector
-// that is not all earlier), then the earlier entries' positions and h gathered and tested.
+// The meeting point by counting the earlier entries eight at a time (their slots loaded by index:
+// no chain of dependent loads as in a bisection; the list is sorted, so the count stops at the
+// first vector that is not all earlier), then the earlier entries' positions and h loaded and
+// tested (loads by index, not gathers: core/avx512_partner_loads.hpp).
 __attribute__((target("avx512f,avx512vl"))) EarlierPartners earlier_avx512(const std::uint32_t* js, std::size_t n,
                                                                             std::uint32_t slot_i,
                                                                             const std::uint32_t* slot, const Vec<2>& xi,
@@ -89,9 +96,9 @@ __attribute__((target("avx512f,avx512vl"))) EarlierPartners earlier_avx512(const
   EarlierPartners r{0, 0};
   const __m256i own = _mm256_set1_epi32(static_cast<int>(slot_i));
   for (std::size_t k = 0; k < n; k += 8) {
-    const auto live = static_cast<__mmask8>(n - k < 8 ? (1u << (n - k)) - 1u : 0xFFu);
-    const __m256i j = _mm256_maskz_loadu_epi32(live, js + k);
-    const __m256i s = _mm256_mmask_i32gather_epi32(_mm256_setzero_si256(), live, j, reinterpret_cast<const int*>(slot), 4);
+    const std::size_t count = std::min<std::size_t>(8, n - k);
+    const auto live = static_cast<__mmask8>((1u << count) - 1u);
+    const __m256i s = avx512::load_u32_singles(slot, avx512::round8(js + k, count));
     const __mmask8 earlier = _mm256_mask_cmplt_epu32_mask(live, s, own);
     r.count += static_cast<std::size_t>(__builtin_popcount(earlier));
     if (earlier != live) break;
@@ -100,14 +107,14 @@ __attribute__((target("avx512f,avx512vl"))) EarlierPartners earlier_avx512(const
   const __m256i bound = _mm256_set1_epi32(static_cast<int>(limit));
   const double* base = reinterpret_cast<const double*>(pos);
   for (std::size_t k = 0; k < r.count; k += 8) {
-    const auto live = static_cast<__mmask8>(r.count - k < 8 ? (1u << (r.count - k)) - 1u : 0xFFu);
-    const __m256i j = _mm256_maskz_loadu_epi32(live, js + k);
+    const std::size_t count = std::min<std::size_t>(8, r.count - k);
+    const auto live = static_cast<__mmask8>((1u << count) - 1u);
+    const __m256i j = avx512::load_u32(js + k, count);
     const __mmask8 wanted = _mm256_mask_cmplt_epu32_mask(live, j, bound);
-    const __m512i j64 = _mm512_maskz_cvtepu32_epi64(0xFF, j);  // (maskz: GCC 12 warns on the plain form)
-    const __m512i twice = _mm512_add_epi64(j64, j64);  // index of x_j among the doubles of pos
-    const __m512d xj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, twice, base, 8);
-    const __m512d yj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, twice, base + 1, 8);
-    const __m512d hj = _mm512_mask_i64gather_pd(_mm512_setzero_pd(), wanted, j64, h, 8);
+    const avx512::Round8 partners = avx512::round8(js + k, count);
+    __m512d xj, yj;
+    avx512::load_pairs(base, partners, xj, yj);
+    const __m512d hj = avx512::load_singles(h, partners);
     const __m512d dx = _mm512_sub_pd(x, xj), dy = _mm512_sub_pd(y, yj);
 #ifdef __FMA__
     const __m512d dist2 = _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));  // as norm2 with FMA

@@ -1,5 +1,8 @@
 #include "physics/list_factors.hpp"
 
+#include <algorithm>
+
+#include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
 #include "physics/kernels.hpp"
 
@@ -15,15 +18,14 @@ namespace {
 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 
-// Eight partners per round: positions and kernel slopes gathered, squared distances formed as norm2
+// Eight partners per round: positions and kernel slopes loaded, squared distances formed as norm2
 // does (core/vec.hpp), all stored contiguously; then the factor loop of the scalar path on them,
-// compiled eight-wide here. (maskz forms with all lanes set: GCC 12 warns that the plain forms'
-// undefined source may be used.)
+// compiled eight-wide here.
 template <class K>
 [[gnu::target("avx512f,avx512vl")]] void form_avx512(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i,
                                                      std::span<const std::uint32_t> js, std::span<float> factors) {
   static_assert(sizeof(Vec<2>) == 2 * sizeof(double) && sizeof(KernelSlope) == 2 * sizeof(double),
-                "positions and slopes are gathered as pairs of doubles");
+                "positions and slopes are read as pairs of doubles");
   thread_local std::vector<double> r2_buffer, inv_h_buffer, dw_norm_buffer;
   const std::size_t n = js.size();
   double* r2 = scratch_for(r2_buffer, n + 8);  // whole vectors of eight
@@ -33,19 +35,18 @@ template <class K>
   const double* ss = reinterpret_cast<const double*>(slopes);
   const __m512d xi = _mm512_set1_pd(pos[i][0]), yi = _mm512_set1_pd(pos[i][1]);
   for (std::size_t q = 0; q < n; q += 8) {
-    const auto live = static_cast<__mmask8>(n - q < 8 ? (1u << (n - q)) - 1u : 0xFFu);
-    const __m512i j = _mm512_maskz_cvtepu32_epi64(0xFF, _mm256_maskz_loadu_epi32(live, js.data() + q));
-    const __m512i twice = _mm512_add_epi64(j, j);
-    const __m512i twice1 = _mm512_add_epi64(twice, _mm512_set1_epi64(1));
-    const __m512d dx = _mm512_sub_pd(xi, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice, xs, 8));
-    const __m512d dy = _mm512_sub_pd(yi, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice1, xs, 8));
+    const avx512::Round8 j = avx512::round8(js.data() + q, std::min<std::size_t>(8, n - q));
+    __m512d xj, yj, inv_hj, dw_normj;
+    avx512::load_pairs(xs, j, xj, yj);
+    avx512::load_pairs(ss, j, inv_hj, dw_normj);
+    const __m512d dx = _mm512_sub_pd(xi, xj), dy = _mm512_sub_pd(yi, yj);
 #ifdef __FMA__
     _mm512_storeu_pd(r2 + q, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));  // as norm2 with FMA
 #else
     _mm512_storeu_pd(r2 + q, _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)));
 #endif
-    _mm512_storeu_pd(inv_h + q, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice, ss, 8));
-    _mm512_storeu_pd(dw_norm + q, _mm512_mask_i64gather_pd(_mm512_setzero_pd(), live, twice1, ss, 8));
+    _mm512_storeu_pd(inv_h + q, inv_hj);
+    _mm512_storeu_pd(dw_norm + q, dw_normj);
   }
   const KernelSlope si = slopes[i];
   float* F = factors.data();

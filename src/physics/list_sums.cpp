@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
 
 // Compiled with -ffp-contract=off (src/CMakeLists.txt): a product added to a sum must not be fused
@@ -18,7 +19,7 @@ namespace {
 // Intrinsics in their maskz forms with all lanes set where GCC 12 warns that the plain forms'
 // undefined source may be used.
 
-static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions and velocities are gathered as interleaved x, y");
+static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions and velocities are read as interleaved x, y");
 static_assert(sizeof(GradientSums<2>) == 8 * sizeof(double), "a particle's gradient sums are one vector of eight");
 
 // Rows r[c] (component c of eight pairs) to columns r[k] (the eight components of pair k).
@@ -49,28 +50,24 @@ static_assert(sizeof(GradientSums<2>) == 8 * sizeof(double), "a particle's gradi
   return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(x), _mm512_set1_epi64(INT64_MIN)));
 }
 
-// The partners of one round (up to eight, `live` of them): indices as 64-bit lanes and their
-// kernel-gradient factors.
+// The partners of one round (up to eight): their indices and kernel-gradient factors (0 in the
+// lanes past the list's end).
 struct Round {
-  __mmask8 live;
-  __m512i j;
+  avx512::Round8 j;
   __m512d f;
 };
 
 [[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline Round load_round(const std::uint32_t* js, const float* F,
                                                                                 std::size_t q, std::size_t n) {
-  const auto live = static_cast<__mmask8>(n - q < 8 ? (1u << (n - q)) - 1u : 0xFFu);
-  const __m256i j = _mm256_maskz_loadu_epi32(live, js + q);
-  return {live, _mm512_maskz_cvtepu32_epi64(0xFF, j), _mm512_maskz_cvtps_pd(0xFF, _mm256_maskz_loadu_ps(live, F + q))};
+  const std::size_t count = std::min<std::size_t>(8, n - q);
+  const auto live = static_cast<__mmask8>((1u << count) - 1u);
+  // (A masked load only for a partial round: on an AMD EPYC, Zen 5, the masked load of every round
+  // held a third of the force loop's samples.)
+  const __m256 f = count == 8 ? _mm256_loadu_ps(F + q) : _mm256_maskz_loadu_ps(live, F + q);
+  return {avx512::round8(js + q, count), _mm512_maskz_cvtps_pd(0xFF, f)};
 }
 
-// Component c of the round's partners' records of 2^shift doubles starting at base.
-[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d gather(const Round& r, const double* base, unsigned shift, int c) {
-  const __m512i at = _mm512_add_epi64(_mm512_maskz_sllv_epi64(0xFF, r.j, _mm512_set1_epi64(shift)), _mm512_set1_epi64(c));
-  return _mm512_mask_i64gather_pd(_mm512_setzero_pd(), r.live, at, base, 8);
-}
-
-// Eight partners per round: their positions, velocities and volumes gathered, the eight products of
+// Eight partners per round: their positions, velocities and volumes loaded, the eight products of
 // pair_products (the moment ones negated: sum - w P = sum + w (-P) exactly) formed for all of them
 // and transposed to one vector per pair, which is then weighted and added to i's sum and to the
 // partner's, pair by pair in list order: the scalar loop's operations, in its order.
@@ -86,13 +83,16 @@ struct Round {
   alignas(64) double wi[8], wj[8];
   for (std::size_t q = 0; q < n; q += 8) {
     const Round r = load_round(js, F, q, n);
-    const __m512d dvx = _mm512_sub_pd(gather(r, vel, 1, 0), vxi), dvy = _mm512_sub_pd(gather(r, vel, 1, 1), vyi);
-    const __m512d dx = _mm512_sub_pd(xi, gather(r, pos, 1, 0)), dy = _mm512_sub_pd(yi, gather(r, pos, 1, 1));
+    __m512d vxj, vyj, xj, yj;
+    avx512::load_pairs(vel, r.j, vxj, vyj);
+    avx512::load_pairs(pos, r.j, xj, yj);
+    const __m512d dvx = _mm512_sub_pd(vxj, vxi), dvy = _mm512_sub_pd(vyj, vyi);
+    const __m512d dx = _mm512_sub_pd(xi, xj), dy = _mm512_sub_pd(yi, yj);
     __m512d P[8] = {_mm512_mul_pd(dvx, dx), _mm512_mul_pd(dvx, dy), _mm512_mul_pd(dvy, dx), _mm512_mul_pd(dvy, dy),
                     negated(_mm512_mul_pd(dx, dx)), negated(_mm512_mul_pd(dx, dy)), negated(_mm512_mul_pd(dy, dx)),
                     negated(_mm512_mul_pd(dy, dy))};
     transpose8(P);
-    _mm512_store_pd(wi, _mm512_mul_pd(r.f, gather(r, d.volume, 0, 0)));
+    _mm512_store_pd(wi, _mm512_mul_pd(r.f, avx512::load_singles(d.volume, r.j)));
     _mm512_store_pd(wj, _mm512_mul_pd(r.f, Vi));
     const std::size_t count = std::min<std::size_t>(8, n - q);
     for (std::size_t k = 0; k < count; ++k) {
@@ -108,13 +108,29 @@ struct Round {
 }
 
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
+// A round's pair accelerations ((x, y) per pair in to_i and to_j) added to i's sum and subtracted
+// from the writable partners' accelerations, pair by pair in list order (SSE2, in either path).
+[[gnu::always_inline]] inline void add_round(const ForceListData<2>& d, const std::uint32_t* js, std::size_t count,
+                                             const double* to_i, const double* to_j, __m128d& sum) {
+  for (std::size_t k = 0; k < count; ++k) {
+    sum = _mm_add_pd(sum, _mm_load_pd(to_i + 2 * k));
+    const std::uint32_t j = js[k];
+    if (j < d.writable) {
+      double* a = d.acc[j].c.data();
+      _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
+    }
+  }
+}
+#endif
+
+#ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
 // Eq. 6 without pressure or force correction, eight partners per round: positions, stresses, 1/rho
-// and masses gathered, the pair forces formed for all eight, then interleaved to (x, y) per pair and
+// and masses loaded, the pair forces formed for all eight, then interleaved to (x, y) per pair and
 // added to i's sum and subtracted from the partner's acceleration pair by pair in list order.
 [[gnu::target("avx512f,avx512vl")]] void force_list_avx512(const ForceListData<2>& d, std::uint32_t i,
                                                                     const std::uint32_t* js, const float* F,
                                                                     std::size_t n, Vec<2>& ai) {
-  static_assert(sizeof(Mat<2, ReducedReal>) == 4 * sizeof(double), "stresses are gathered as four doubles");
+  static_assert(sizeof(Mat<2, ReducedReal>) == 4 * sizeof(double), "stresses are read as four doubles");
   const double* pos = reinterpret_cast<const double*>(d.pos);
   const double* stress = reinterpret_cast<const double*>(d.stress);
   const __m512d xi = _mm512_set1_pd(d.pos[i][0]), yi = _mm512_set1_pd(d.pos[i][1]);
@@ -126,30 +142,24 @@ struct Round {
   alignas(64) double to_i[16], to_j[16];
   for (std::size_t q = 0; q < n; q += 8) {
     const Round r = load_round(js, F, q, n);
-    const __m512d gx = _mm512_mul_pd(_mm512_sub_pd(xi, gather(r, pos, 1, 0)), r.f);
-    const __m512d gy = _mm512_mul_pd(_mm512_sub_pd(yi, gather(r, pos, 1, 1)), r.f);
-    const __m512d inv_rho_j = gather(r, d.inv_rho, 0, 0);
+    __m512d xj, yj, Sj[4];
+    avx512::load_pairs(pos, r.j, xj, yj);
+    avx512::load_quads(stress, r.j, Sj);
+    const __m512d gx = _mm512_mul_pd(_mm512_sub_pd(xi, xj), r.f);
+    const __m512d gy = _mm512_mul_pd(_mm512_sub_pd(yi, yj), r.f);
+    const __m512d inv_rho_j = avx512::load_singles(d.inv_rho, r.j);
     __m512d X[4];
-    for (int c = 0; c < 4; ++c)
-      X[c] = _mm512_add_pd(_mm512_mul_pd(Si[c], inv_rho_j), _mm512_mul_pd(gather(r, stress, 2, c), inv_rho_i));
+    for (int c = 0; c < 4; ++c) X[c] = _mm512_add_pd(_mm512_mul_pd(Si[c], inv_rho_j), _mm512_mul_pd(Sj[c], inv_rho_i));
     const __m512d fx = _mm512_add_pd(_mm512_mul_pd(X[0], gx), _mm512_mul_pd(X[1], gy));  // contract(X, g)
     const __m512d fy = _mm512_add_pd(_mm512_mul_pd(X[2], gx), _mm512_mul_pd(X[3], gy));
-    const __m512d mj = gather(r, d.mass, 0, 0);
+    const __m512d mj = avx512::load_singles(d.mass, r.j);
     const __m512d ax = _mm512_mul_pd(fx, mj), ay = _mm512_mul_pd(fy, mj);
     const __m512d bx = _mm512_mul_pd(fx, mi), by = _mm512_mul_pd(fy, mi);
     _mm512_store_pd(to_i, _mm512_permutex2var_pd(ax, first, ay));
     _mm512_store_pd(to_i + 8, _mm512_permutex2var_pd(ax, second, ay));
     _mm512_store_pd(to_j, _mm512_permutex2var_pd(bx, first, by));
     _mm512_store_pd(to_j + 8, _mm512_permutex2var_pd(bx, second, by));
-    const std::size_t count = std::min<std::size_t>(8, n - q);
-    for (std::size_t k = 0; k < count; ++k) {
-      sum = _mm_add_pd(sum, _mm_load_pd(to_i + 2 * k));
-      const std::uint32_t j = js[q + k];
-      if (j < d.writable) {
-        double* a = d.acc[j].c.data();
-        _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
-      }
-    }
+    add_round(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
   }
   _mm_storeu_pd(ai.c.data(), sum);
 }
@@ -209,14 +219,7 @@ struct Round {
     _mm256_store_pd(to_i + 4, _mm256_permute2f128_pd(a02, a13, 0x31));
     _mm256_store_pd(to_j, _mm256_permute2f128_pd(b02, b13, 0x20));
     _mm256_store_pd(to_j + 4, _mm256_permute2f128_pd(b02, b13, 0x31));
-    for (std::size_t k = 0; k < 4; ++k) {
-      sum = _mm_add_pd(sum, _mm_load_pd(to_i + 2 * k));
-      const std::uint32_t j = js[q + k];
-      if (j < d.writable) {
-        double* a = d.acc[j].c.data();
-        _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
-      }
-    }
+    add_round(d, js.data() + q, 4, to_i, to_j, sum);
   }
   _mm_storeu_pd(ai.c.data(), sum);
   if (q < n) force_list_terms<2, false, false>(d, i, js.subspan(q), F.subspan(q), ai, du_i);
