@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -48,6 +47,10 @@ std::array<double, N> quantiles(const std::vector<double>& v, const std::array<d
     from = k;
   }
   return q;
+}
+
+std::size_t total_of(const std::vector<std::uint32_t>& counts) {
+  return par::sum<std::size_t>(counts.size(), [&](std::size_t i) { return static_cast<std::size_t>(counts[i]); });
 }
 
 }  // namespace
@@ -140,11 +143,11 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
     const double uniform_mass = uniform_mass_of(p);  // ghosts included
-    std::atomic<std::size_t> sums{0};
+    solve_sums_.assign(active, 0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched, uniform_mass);
-      sums.fetch_add(static_cast<std::size_t>(r.sums), std::memory_order_relaxed);
+      solve_sums_[i] += static_cast<std::uint32_t>(r.sums);  // (a wider search solves i again)
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
         const double wider = 2.0 * std::max(kSkin, skin) * r.h;
@@ -171,7 +174,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       // them there; appending joins them).
       else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable);
     }
-    smoothing_length_sums_ += sums.load();
+    smoothing_length_sums_ += total_of(solve_sums_);
     if (!domain_) break;
     bool again = false;
     for (std::size_t i = 0; i < owned; ++i) {
@@ -223,7 +226,7 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
   h_start_ = p.h;
   const double uniform_mass = uniform_mass_of(p);
   int inside;
-  std::atomic<std::size_t> sums{0};
+  solve_sums_.assign(n, 0);
   {
     ScopedPhase t(timers_, "neighbour_search");
     inside = par::reduce(n, 1, [&](std::size_t i) {
@@ -250,13 +253,13 @@ bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
         r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i], uniform_mass);
         taken += static_cast<std::size_t>(r.sums);
       }
-      sums.fetch_add(taken, std::memory_order_relaxed);
+      solve_sums_[i] = static_cast<std::uint32_t>(taken);
       p.h[i] = r.h;
       store(p.rho[i], r.rho);
       return r.beyond_candidates ? 0 : 1;
     }, [](int a, int b) { return a & b; });
   }
-  smoothing_length_sums_ += sums.load();
+  smoothing_length_sums_ += total_of(solve_sums_);
   if (inside && lists_still_valid(p, [this](std::size_t i) { return kept_[i]; },
                                   [&p](std::size_t i) { return 2.0 * p.h[i]; }))
     return true;

@@ -162,6 +162,9 @@ class RateEvaluator {
   std::size_t halo_widenings_ = 0;
   std::size_t smoothing_length_solves_ = 0;
   std::size_t smoothing_length_sums_ = 0;
+  // Each particle's kernel sums in the current h solve, added up after it: a shared counter that
+  // every particle's solve incremented (one atomic add each) made the threads contend for its cache line.
+  std::vector<std::uint32_t> solve_sums_;
   double list_skin_ = 0;
   ListReuse<D> reuse_;
   std::vector<double> kept_;     // Adaptive: each particle's gather-list radius (listed radius)
