@@ -39,6 +39,10 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radi
   const int x0 = std::max(c[0] - reach, 0), x1 = std::min(c[0] + reach, g.dims[0] - 1);
   const auto first = [&](int k) { return after ? c[static_cast<std::size_t>(k)] : std::max(c[static_cast<std::size_t>(k)] - reach, 0); };
   const double margin = 1e-9 * g.cell_size;
+  // The chord's end cells by a product with the inverse cell size, not a division per row: that
+  // rounds differently from coord() by ~1e-16 of the coordinate, far inside the margin, so no cell
+  // that holds a point within the radius is missed (an extra cell holds only points beyond it).
+  const double inv_cell = 1.0 / g.cell_size;
   std::array<int, D> r = c;
   // The slots [s0, s1) of a row of cells (s0 >= s1: nothing to scan).
   auto row_range = [&](std::array<int, D> cell) -> std::pair<std::uint32_t, std::uint32_t> {
@@ -56,9 +60,9 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radi
     const bool own_row = after && cell == c;
     // The cells of the row that the chord reaches (the same coordinates as the particles': every
     // particle within the chord lies in one of them).
-    cell[0] = std::min(x1, g.coord(x[0] + half_chord, 0));
+    cell[0] = std::min(x1, g.coord_in_cells((x[0] + half_chord - g.lo[0]) * inv_cell, 0));
     const std::uint32_t s1 = g.offsets[g.linear(cell) + 1];
-    cell[0] = std::max(x0, g.coord(x[0] - half_chord, 0));
+    cell[0] = std::max(x0, g.coord_in_cells((x[0] - half_chord - g.lo[0]) * inv_cell, 0));
     const std::uint32_t s0 = own_row ? *after + 1 : g.offsets[g.linear(cell)];
     return {s0, s1};
   };

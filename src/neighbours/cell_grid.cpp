@@ -9,14 +9,6 @@
 namespace sphdisk {
 
 template <int D>
-std::size_t CellGrid<D>::linear(const std::array<int, D>& c) const {
-  std::size_t idx = 0;
-  for (int k = D - 1; k >= 0; --k)
-    idx = idx * static_cast<std::size_t>(dims[static_cast<std::size_t>(k)]) + static_cast<std::size_t>(c[static_cast<std::size_t>(k)]);
-  return idx;  // x fastest: cells along x are adjacent, so a row of 3 cells is one contiguous range
-}
-
-template <int D>
 std::size_t CellGrid<D>::cell_of(const Vec<D>& x) const {
   std::array<int, D> c;
   for (int k = 0; k < D; ++k) c[static_cast<std::size_t>(k)] = coord(x[k], k);

@@ -53,16 +53,24 @@ struct CellGrid {
   // negative quotient: for t >= 0, floor(t) is the truncation, and x86-64's baseline has no
   // rounding instruction, so std::floor was a call, in every row of every search (~3% of a
   // step's instructions). The same cells as floor((x - lo) / cell_size) - origin.
-  int coord(double x, int k) const {
+  int coord(double x, int k) const { return coord_in_cells((x - lo[k]) / cell_size, k); }
+  // The same for t = (x - lo) / cell_size given (for callers that may round t differently, e.g.
+  // multiply by the inverse cell size, and allow for it).
+  int coord_in_cells(double t, int k) const {
     const auto kk = static_cast<std::size_t>(k);
-    const double t = (x - lo[k]) / cell_size;
     const double first = origin[kk];
     if (!(t >= first)) return 0;  // also catches NaN
     if (t >= first + dims[kk]) return dims[kk] - 1;
     const double whole = t >= 0 ? static_cast<double>(static_cast<std::int64_t>(t)) : std::floor(t);
     return static_cast<int>(whole - first);
   }
-  std::size_t linear(const std::array<int, D>& c) const;
+  // x fastest: cells along x are adjacent, so a row of cells is one contiguous range of slots.
+  std::size_t linear(const std::array<int, D>& c) const {
+    std::size_t idx = 0;
+    for (int k = D - 1; k >= 0; --k)
+      idx = idx * static_cast<std::size_t>(dims[static_cast<std::size_t>(k)]) + static_cast<std::size_t>(c[static_cast<std::size_t>(k)]);
+    return idx;
+  }
   std::size_t cell_of(const Vec<D>& x) const;
 };
 
