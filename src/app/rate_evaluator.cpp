@@ -93,11 +93,11 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   const std::size_t owned = p.size();
   const bool reusable = this->reusable(active, owned);
   // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
-  for (std::size_t i = 0; i < active; ++i) {
+  par::for_each(active, [&p](std::size_t i) {
     const double h = p.h[i];
     p.h[i] = predicted_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
     remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
-  }
+  });
   smoothing_length_solves_ += active;
   if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
