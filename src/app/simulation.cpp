@@ -21,6 +21,7 @@
 #include "core/error.hpp"
 #include "core/timers.hpp"
 #include "core/units.hpp"
+#include "core/vector_isa.hpp"
 #include "domain/distributed_domain.hpp"
 #include "integrate/integrator.hpp"
 #include "io/atomic_file.hpp"
@@ -358,7 +359,8 @@ class Runner {
     getrusage(RUSAGE_SELF, &ru);
     std::ostringstream os;
     os << "{\"rank\": " << domain_.comm().rank() << ", \"particles\": " << p_.size()
-       << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
+       << ", \"ghosts\": " << domain_.halo().ghosts() << ", \"vector_isa\": \"" << vector_isa_name(vector_isa()) << '"'
+       << ", \"peak_rss_bytes\": " << ru.ru_maxrss * 1024L
        << ", \"decompositions\": " << domain_.recuts() << ", \"count_imbalance\": " << domain_.imbalance()
        << ", \"rate_evaluations\": " << rates_.evaluations() << ", \"list_builds\": " << rates_.list_builds()
        << ", \"particle_updates\": " << rates_.particle_updates()
@@ -485,8 +487,8 @@ RunSummary Runner::advance() {
       throw UserError("cannot write trace file '" + opts_.trace_file + "'");
   });
   if (root() && !opts_.quiet) {
-    std::fprintf(stderr, "phase timers (rank 0 of %d, %d threads):\n%s", domain_.comm().size(), par::max_threads(),
-                 timers_.table().c_str());
+    std::fprintf(stderr, "phase timers (rank 0 of %d, %d threads, vector loops: %s):\n%s", domain_.comm().size(),
+                 par::max_threads(), vector_isa_name(vector_isa()), timers_.table().c_str());
     std::fprintf(stderr,
                  "%s: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
                  "(%.3g per thread over %d rank(s)), %zu rejected steps\n",
@@ -499,6 +501,9 @@ RunSummary Runner::advance() {
 
 void apply_run_options(const Config& cfg, const RunOptions& opts) {
   par::set_threads(cfg.threads);
+  limit_vector_isa(cfg.vector_isa == "baseline" ? VectorIsa::baseline
+                   : cfg.vector_isa == "avx2"   ? VectorIsa::avx2
+                                                : VectorIsa::avx512);  // auto: no cap
   if (!opts.trace_file.empty()) par::trace_enable(true);
   g_stop_signal = 0;
 }

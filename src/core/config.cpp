@@ -169,6 +169,8 @@ const std::vector<KeyDef>& schema() {
       float_key("checkpoint.every_tau", &Config::checkpoint_every_tau, non_negative(), "write a checkpoint each time the viscous time tau passes a multiple of this (0: off)"),
       float_key("checkpoint.every_seconds", &Config::checkpoint_every_seconds, non_negative(), "write a checkpoint every this many wall-clock seconds (0: off)"),
       int_key("run.threads", &Config::threads, 0, 4096, "threads (0: OpenMP default, e.g. OMP_NUM_THREADS)"),
+      string_key("run.vector_isa", &Config::vector_isa, {"auto", "avx2", "baseline"},
+                 "widest vector instructions of the hand-dispatched loops: auto (the CPU's widest: AVX-512, AVX2 or baseline), avx2, or baseline (SSE2); the same bits with each, only the speed differs (`sphdisk --version` names the CPU's)"),
       int_key("run.inject_nan_at_step", &Config::inject_nan_at_step, 0, (1LL << 62), "testing aid: make one velocity NaN at this step to exercise the fault handling (0: off)"),
       int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),
       float_key("run.rebalance_threshold", &Config::rebalance_threshold, in_range(1, 100), "over MPI ranks: the domains are cut anew when the largest rank's particle count over the mean passes this (1: every step)"),

@@ -53,6 +53,7 @@ struct Config {
   double checkpoint_every_seconds = 600.0;  // wall-clock interval; 0: not by wall time
   // [run]
   int threads = 0;                 // 0: OpenMP default
+  std::string vector_isa = "auto";  // auto | avx2 | baseline: the widest the dispatched loops may use
   long long max_steps = 0;         // 0: no limit
   double rebalance_threshold = 1.05;  // MPI: re-cut the domains when largest rank / mean count passes this
   long long inject_nan_at_step = 0;  // testing aid for the fault path; 0: off
