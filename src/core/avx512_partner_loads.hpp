@@ -36,9 +36,6 @@ struct Round8 {
   return _mm256_maskz_loadu_epi32(static_cast<__mmask8>((1u << count) - 1u), at);
 }
 
-// (maskz forms with all lanes set where GCC 12 warns that the plain forms' undefined source may be
-// used.)
-
 // lo and hi as one vector (the mask form with lo as its source: the plain one passes an undefined
 // source that GCC 12 warns about).
 [[gnu::target("avx512f"), gnu::always_inline]] inline __m512d joined(__m256d lo, __m256d hi) {
