@@ -29,11 +29,19 @@ struct Round8 {
   return r;
 }
 
-// Eight 32-bit entries from `at`, of which the first `count` are wanted (0 in the others): a masked
-// load only when count < 8.
+// Eight entries from `at`, of which the first `count` are wanted (0 in the others): a masked load
+// only when count < 8 (count 0 reads nothing).
 [[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline __m256i load_u32(const std::uint32_t* at, std::size_t count) {
   if (count >= 8) return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at));
   return _mm256_maskz_loadu_epi32(static_cast<__mmask8>((1u << count) - 1u), at);
+}
+[[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline __m256 load_f32(const float* at, std::size_t count) {
+  if (count >= 8) return _mm256_loadu_ps(at);
+  return _mm256_maskz_loadu_ps(static_cast<__mmask8>((1u << count) - 1u), at);
+}
+[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d load_f64(const double* at, std::size_t count) {
+  if (count >= 8) return _mm512_loadu_pd(at);
+  return _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << count) - 1u), at);
 }
 
 // lo and hi as one vector (the mask form with lo as its source: the plain one passes an undefined

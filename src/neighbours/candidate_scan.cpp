@@ -44,11 +44,9 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
   for (std::uint32_t s = s0; s < s1; s += 8) {
     const unsigned n = s1 - s < 8 ? s1 - s : 8;
     const auto live = static_cast<__mmask8>((1u << n) - 1u);
-    const auto first4 = static_cast<__mmask8>((1u << (2 * (n < 4 ? n : 4))) - 1u);
-    const auto last4 = static_cast<__mmask8>(n > 4 ? (1u << (2 * (n - 4))) - 1u : 0u);
-    const double* at = base + 2 * std::size_t{s};
-    const __m512d a = n == 8 ? _mm512_loadu_pd(at) : _mm512_maskz_loadu_pd(first4, at);
-    const __m512d b = n == 8 ? _mm512_loadu_pd(at + 8) : _mm512_maskz_loadu_pd(last4, at + 8);
+    const double* at = base + 2 * std::size_t{s};  // 2 n doubles: up to eight in a, the rest in b
+    const __m512d a = avx512::load_f64(at, 2 * std::min(n, 4u));
+    const __m512d b = avx512::load_f64(at + 8, n > 4 ? 2 * (n - 4) : 0);
     const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), x);
     const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), y);
 #ifdef __FMA__
@@ -75,8 +73,7 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_
   for (std::size_t k = 0; k < n; k += 8) {
     const auto live = static_cast<__mmask8>(n - k < 8 ? (1u << (n - k)) - 1u : 0xFFu);
     const __m256i j = avx512::load_u32(idx + k, n - k);
-    const __m512d dist2 = n - k >= 8 ? _mm512_loadu_pd(d2 + k) : _mm512_maskz_loadu_pd(live, d2 + k);
-    const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, radius2, _CMP_LT_OQ);
+    const __mmask8 keep = _mm512_mask_cmp_pd_mask(live, avx512::load_f64(d2 + k, n - k), radius2, _CMP_LT_OQ);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(idx + kept), _mm256_maskz_compress_epi32(keep, j));
     kept += static_cast<std::size_t>(__builtin_popcount(keep));
   }

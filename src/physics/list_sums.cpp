@@ -60,11 +60,7 @@ struct Round {
 [[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline Round load_round(const std::uint32_t* js, const float* F,
                                                                                 std::size_t q, std::size_t n) {
   const std::size_t count = std::min<std::size_t>(8, n - q);
-  const auto live = static_cast<__mmask8>((1u << count) - 1u);
-  // (A masked load only for a partial round: on an AMD EPYC, Zen 5, the masked load of every round
-  // held a third of the force loop's samples.)
-  const __m256 f = count == 8 ? _mm256_loadu_ps(F + q) : _mm256_maskz_loadu_ps(live, F + q);
-  return {avx512::round8(js + q, count), _mm512_maskz_cvtps_pd(0xFF, f)};
+  return {avx512::round8(js + q, count), _mm512_maskz_cvtps_pd(0xFF, avx512::load_f32(F + q, count))};
 }
 
 // Eight partners per round: their positions, velocities and volumes loaded, the eight products of
@@ -121,9 +117,7 @@ struct Round {
     }
   }
 }
-#endif
 
-#ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
 // Eq. 6 without pressure or force correction, eight partners per round: positions, stresses, 1/rho
 // and masses loaded, the pair forces formed for all eight, then interleaved to (x, y) per pair and
 // added to i's sum and subtracted from the partner's acceleration pair by pair in list order.
