@@ -21,6 +21,7 @@
 #include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/kernels.hpp"
+#include "physics/list_factors.hpp"
 #include "physics/pair_factors.hpp"
 
 namespace sphdisk {
@@ -57,19 +58,13 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
     // The kernel by value: read through a reference it would be reloaded after every store to rho,
     // which may alias it.
     const KernelAt<K, D> k = kern;
-    const Vec<D> xi = p.pos[i];
     const double mi = p.mass[i];
-    // In three loops: the partners' squared distances gathered, then the square roots, kernel
-    // values and factors on contiguous data (a loop GCC vectorises), then the sums in list order.
-    thread_local std::vector<double> r2_buffer, w_buffer;
-    double* r2 = scratch_for(r2_buffer, js.size());
-    double* w = scratch_for(w_buffer, js.size());
-    for (std::size_t q = 0; q < js.size(); ++q) r2[q] = norm2(xi - p.pos[js[q]]);
-    for (std::size_t q = 0; q < js.size(); ++q) {
-      const double r = std::sqrt(r2[q]);
-      w[q] = k.W(r);
-      factors[q] = static_cast<float>(k.dW_over_r(r));
-    }
+    // The kernel values and factors of the list (list_factors.hpp: squared distances first, then
+    // square roots and kernels on contiguous data, eight partners at a time where the CPU allows),
+    // then the sums in list order.
+    thread_local std::vector<double> w_buffer;
+    double* w = scratch_for(w_buffer, js.size() + 8);
+    constant_h_list<K>(p.pos.data(), k, i, js, w, factors);
     double rho_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
@@ -81,25 +76,6 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
   if constexpr (!std::is_same_v<decltype(p.rho), std::vector<double>>)
     par::for_each(m, [&](std::size_t i) { store(p.rho[i], rho[i]); }, "density");
   set_volumes(p, m);
-}
-
-// What the pair-averaged kernel gradient needs of a particle's kernel: 1/h and sigma_D / h^(D+1),
-// 16 bytes gathered per pair (a whole KernelAt is 40).
-struct KernelSlope {
-  double inv_h = 0, dw_norm = 0;
-};
-
-template <class K, int D>
-KernelSlope slope_of(const KernelAt<K, D>& k) {
-  return {k.inv_h, k.w_norm * k.inv_h};  // dW/dr = dw_norm w'(r / h), as KernelAt::dW_dr
-}
-
-// The kernel-gradient factor of a pair with variable h: (dW_i/dr + dW_j/dr) / (2 r), one division;
-// w'(0) = 0, so coincident particles get 0 (divided by 2 instead of 0: no branch, so that the loops
-// forming a list's factors vectorise).
-template <class K>
-double pair_average_factor(const KernelSlope& si, const KernelSlope& sj, double r) {
-  return (si.dw_norm * K::dw(r * si.inv_h) + sj.dw_norm * K::dw(r * sj.inv_h)) / (2.0 * (r > 0 ? r : 1.0));
 }
 
 // Each particle's kernel slope at its smoothing length p.h.

@@ -18,6 +18,15 @@ namespace {
 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 
+// dx^2 + dy^2 as norm2 forms it (core/vec.hpp), so that every path gives the same bits.
+[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d squared_distance(__m512d dx, __m512d dy) {
+#ifdef __FMA__
+  return _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));  // as norm2 with FMA
+#else
+  return _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+#endif
+}
+
 // Eight partners per round: positions and kernel slopes loaded, squared distances formed as norm2
 // does (core/vec.hpp), all stored contiguously; then the factor loop of the scalar path on them,
 // compiled eight-wide here.
@@ -39,12 +48,7 @@ template <class K>
     __m512d xj, yj, inv_hj, dw_normj;
     avx512::load_pairs(xs, j, xj, yj);
     avx512::load_pairs(ss, j, inv_hj, dw_normj);
-    const __m512d dx = _mm512_sub_pd(xi, xj), dy = _mm512_sub_pd(yi, yj);
-#ifdef __FMA__
-    _mm512_storeu_pd(r2 + q, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));  // as norm2 with FMA
-#else
-    _mm512_storeu_pd(r2 + q, _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)));
-#endif
+    _mm512_storeu_pd(r2 + q, squared_distance(_mm512_sub_pd(xi, xj), _mm512_sub_pd(yi, yj)));
     _mm512_storeu_pd(inv_h + q, inv_hj);
     _mm512_storeu_pd(dw_norm + q, dw_normj);
   }
@@ -54,11 +58,37 @@ template <class K>
     F[q] = static_cast<float>(pair_average_factor<K>(si, KernelSlope{inv_h[q], dw_norm[q]}, std::sqrt(r2[q])));
 }
 
+// One global h: eight partners' positions per round, squared distances formed as norm2 does, then
+// the kernel loop of the scalar path on them, compiled eight-wide here.
+template <class K>
+[[gnu::target("avx512f,avx512vl")]] void constant_h_avx512(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i,
+                                                           std::span<const std::uint32_t> js, double* w,
+                                                           std::span<float> factors) {
+  thread_local std::vector<double> r2_buffer;
+  const std::size_t n = js.size();
+  double* r2 = scratch_for(r2_buffer, n + 8);  // whole vectors of eight
+  const double* xs = reinterpret_cast<const double*>(pos);
+  const __m512d xi = _mm512_set1_pd(pos[i][0]), yi = _mm512_set1_pd(pos[i][1]);
+  for (std::size_t q = 0; q < n; q += 8) {
+    const avx512::Round8 j = avx512::round8(js.data() + q, std::min<std::size_t>(8, n - q));
+    __m512d xj, yj;
+    avx512::load_pairs(xs, j, xj, yj);
+    _mm512_storeu_pd(r2 + q, squared_distance(_mm512_sub_pd(xi, xj), _mm512_sub_pd(yi, yj)));
+  }
+  constant_h_kernels(kern, r2, n, w, factors.data());
+}
+
 // The baseline code compiled for AVX2: the loop of square roots and divisions four-wide.
 template <class K>
 [[gnu::target("avx2")]] void form_avx2(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i,
                                        std::span<const std::uint32_t> js, std::span<float> factors) {
   form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
+}
+
+template <class K>
+[[gnu::target("avx2")]] void constant_h_avx2(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i,
+                                             std::span<const std::uint32_t> js, double* w, std::span<float> factors) {
+  constant_h_list_scalar<K, 2>(pos, kern, i, js, w, factors);
 }
 
 #endif
@@ -78,11 +108,32 @@ void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32
   form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
 }
 
+// The same for one global h.
+template <class K>
+void constant_h_list(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
+                     double* w, std::span<float> factors) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return constant_h_avx512<K>(pos, kern, i, js, w, factors);
+    case VectorIsa::avx2: return constant_h_avx2<K>(pos, kern, i, js, w, factors);
+    case VectorIsa::baseline: break;
+  }
+#endif
+  constant_h_list_scalar<K, 2>(pos, kern, i, js, w, factors);
+}
+
 template void form_list_factors<CubicSpline>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
                                              std::span<float>);
 template void form_list_factors<WendlandC2>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
                                             std::span<float>);
 template void form_list_factors<WendlandC4>(const Vec<2>*, const KernelSlope*, std::uint32_t, std::span<const std::uint32_t>,
                                             std::span<float>);
+
+template void constant_h_list<CubicSpline>(const Vec<2>*, const KernelAt<CubicSpline, 2>&, std::uint32_t,
+                                           std::span<const std::uint32_t>, double*, std::span<float>);
+template void constant_h_list<WendlandC2>(const Vec<2>*, const KernelAt<WendlandC2, 2>&, std::uint32_t,
+                                          std::span<const std::uint32_t>, double*, std::span<float>);
+template void constant_h_list<WendlandC4>(const Vec<2>*, const KernelAt<WendlandC4, 2>&, std::uint32_t,
+                                          std::span<const std::uint32_t>, double*, std::span<float>);
 
 }  // namespace sphdisk

@@ -14,7 +14,8 @@
 
 #include "core/snug_resize.hpp"
 #include "core/vec.hpp"
-#include "physics/density.hpp"
+#include "physics/kernels.hpp"
+#include "physics/pair_factors.hpp"
 
 namespace sphdisk {
 
@@ -40,6 +41,42 @@ template <class K, int D>
 template <class K>
 void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<float> factors);
+
+// The second loop: on contiguous squared distances, so that it vectorises.
+template <class K, int D>
+[[gnu::always_inline]] inline void constant_h_kernels(const KernelAt<K, D>& kern, const double* r2, std::size_t n, double* w,
+                                                      float* factors) {
+  const KernelAt<K, D> k = kern;  // by value: stores to w and factors cannot alias it
+  for (std::size_t q = 0; q < n; ++q) {
+    const double r = std::sqrt(r2[q]);
+    w[q] = k.W(r);
+    factors[q] = static_cast<float>(k.dW_over_r(r));
+  }
+}
+
+// With one global h (the density loop of density.hpp): the kernel values w[q] = W(r) and factors
+// F[q] = dW/dr / r of the pairs (i, js[q]), r = |x_i - x_js[q]|, in two loops like the ones
+// above: squared distances first, then square roots and kernels on contiguous data.
+template <class K, int D>
+[[gnu::always_inline]] inline void constant_h_list_scalar(const Vec<D>* pos, const KernelAt<K, D>& kern, std::uint32_t i,
+                                                          std::span<const std::uint32_t> js, double* w, std::span<float> factors) {
+  thread_local std::vector<double> r2_buffer;
+  double* r2 = scratch_for(r2_buffer, js.size());
+  const Vec<D> xi = pos[i];
+  for (std::size_t q = 0; q < js.size(); ++q) r2[q] = norm2(xi - pos[js[q]]);
+  constant_h_kernels(kern, r2, js.size(), w, factors.data());
+}
+
+// 2D: dispatched (list_factors.cpp); w has room for js.size() values.
+template <class K>
+void constant_h_list(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
+                     double* w, std::span<float> factors);
+
+template <class K>
+void constant_h_list(const Vec<3>* pos, const KernelAt<K, 3>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
+                     double* w, std::span<float> factors) {
+  constant_h_list_scalar<K, 3>(pos, kern, i, js, w, factors);
+}
 
 template <class K>
 void form_list_factors(const Vec<3>* pos, const KernelSlope* slopes, std::uint32_t i, std::span<const std::uint32_t> js,

@@ -9,8 +9,29 @@
 // precision the same way, so every loop still sees the same factor of a pair.
 #include <vector>
 
+#include "physics/kernels.hpp"
+
 namespace sphdisk {
 
 using PairFactors = std::vector<float>;  // indexed like NeighbourLists::index
+
+// What the pair-averaged kernel gradient needs of a particle's kernel: 1/h and sigma_D / h^(D+1),
+// 16 bytes gathered per pair (a whole KernelAt is 40).
+struct KernelSlope {
+  double inv_h = 0, dw_norm = 0;
+};
+
+template <class K, int D>
+KernelSlope slope_of(const KernelAt<K, D>& k) {
+  return {k.inv_h, k.w_norm * k.inv_h};  // dW/dr = dw_norm w'(r / h), as KernelAt::dW_dr
+}
+
+// The kernel-gradient factor of a pair with variable h: (dW_i/dr + dW_j/dr) / (2 r), one division;
+// w'(0) = 0, so coincident particles get 0 (divided by 2 instead of 0: no branch, so that the loops
+// forming a list's factors vectorise).
+template <class K>
+double pair_average_factor(const KernelSlope& si, const KernelSlope& sj, double r) {
+  return (si.dw_norm * K::dw(r * si.inv_h) + sj.dw_norm * K::dw(r * sj.inv_h)) / (2.0 * (r > 0 ? r : 1.0));
+}
 
 }  // namespace sphdisk

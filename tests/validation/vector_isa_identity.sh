@@ -2,17 +2,22 @@
 # Same input, same bits on every vector path: a short ring run with run.vector_isa = "auto" (the
 # CPU's widest: AVX-512 or AVX2 on x86-64), "avx2" and "baseline" must give identical particle data
 # in every snapshot (the /Parameters group differs: it records the setting), with leapfrog and with
-# block timesteps (partial evaluations), and ranks.json must name the path that ran. On a CPU
+# block timesteps (partial evaluations), with adaptive h and with one constant h (its own density
+# loop), and ranks.json must name the path that ran. On a CPU
 # without AVX2 all three run the baseline path, which the test then says.
 set -euo pipefail
 sphdisk=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-for scheme in leapfrog block; do
+for variant in leapfrog block leapfrog-constant; do
+  scheme=${variant%-constant}
+  smoothing=adaptive
+  [ "$variant" = "$scheme" ] || smoothing=constant
   for isa in auto avx2 baseline; do
-    "$sphdisk" run -q --output "$work/$scheme-$isa" -t 2 \
+    "$sphdisk" run -q --output "$work/$variant-$isa" -t 2 \
       --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
-      --set "integrator.scheme=\"$scheme\"" --set "run.vector_isa=\"$isa\"" "$(dirname "$0")/small_ring.toml" > /dev/null
+      --set "integrator.scheme=\"$scheme\"" --set "sph.smoothing=\"$smoothing\"" --set "run.vector_isa=\"$isa\"" \
+      "$(dirname "$0")/small_ring.toml" > /dev/null
   done
 done
 /usr/bin/python3 - "$work" <<'PY'
@@ -21,7 +26,7 @@ import h5py
 import numpy as np
 work = sys.argv[1]
 fail = 0
-for scheme in ("leapfrog", "block"):
+for scheme in ("leapfrog", "block", "leapfrog-constant"):
     ran = {isa: json.load(open(f"{work}/{scheme}-{isa}/ranks.json"))[0]["vector_isa"] for isa in ("auto", "avx2", "baseline")}
     print(f"{scheme}: vector paths that ran: {ran}")
     if ran["baseline"] != "baseline" or ran["avx2"] not in ("avx2", "baseline") or ran["auto"] == "":
