@@ -46,7 +46,7 @@ struct Fixture {
   // The neighbour search of a run with constant h: tile order, then each pair once (rate_evaluator.cpp).
   void search() {
     build_tile_order(grid, kTileCells, p.size(), pairs);
-    build_half_neighbour_lists(grid, p.pos, 2 * h, pairs.slot, p.size(), pairs.near);
+    build_half_neighbour_lists(grid, p.pos, 2 * h, pairs.slot, p.size(), pairs.order, pairs.near);
     no_far_pairs(pairs);
   }
 

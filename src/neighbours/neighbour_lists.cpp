@@ -134,7 +134,7 @@ std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1
 template <bool kKeep = true, int D, class Radius, class Settle, class Accept = AllOthers>
 void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::size_t first, std::size_t last,
                  Radius&& radius_of, Settle&& settle, NeighbourLists& nl, const CandidateFilter& filter = {},
-                 const Accept& accept = {}, bool join = true) {
+                 const Accept& accept = {}, bool join = true, const std::uint32_t* visit = nullptr) {
   const bool filtered = !filter.slot_prefix.empty();
   const std::uint32_t below = filter.below;  // a local: the stores to the lists below could alias filter.below
   const std::size_t n = last - first;
@@ -166,11 +166,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
       if (used + more <= idx.size()) return;
       idx.resize(std::max(2 * idx.size(), used + more + 256));
     };
-    for (std::size_t i = i0; i < i1; ++i) {
+    for (std::size_t k = i0; k < i1; ++k) {
+      const std::size_t i = visit ? visit[k] : k;  // list k is particle i's
       const Vec<D> xi = pos[i];
       const std::size_t before = used;
       if (filtered && !filter.any_within(grid, xi, radius_of(i))) {  // no candidate in reach: an empty list
-        cnt[i - i0] = 0;
+        cnt[k - i0] = 0;
         continue;
       }
       for (double radius = radius_of(i);;) {
@@ -218,7 +219,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         break;
       }
       if (!kKeep) used = before;
-      cnt[i - i0] = static_cast<std::uint32_t>(used - before);
+      cnt[k - i0] = static_cast<std::uint32_t>(used - before);
     }
     idx.swap(block_index[b]);  // kept at its buffer size: the block's lists are its first `used` entries
     cnt.swap(block_count[b]);
@@ -254,9 +255,10 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 
 template <int D>
 void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
-                                const std::vector<std::uint32_t>& slot, std::size_t writable, NeighbourLists& nl) {
+                                const std::vector<std::uint32_t>& slot, std::size_t writable,
+                                const std::vector<std::uint32_t>& order, NeighbourLists& nl) {
   build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl, CandidateFilter{},
-              LaterOfWritablePairs{slot, writable});
+              LaterOfWritablePairs{slot, writable}, true, order.data());
 }
 
 template <int D>
@@ -339,9 +341,9 @@ template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_half_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, const std::vector<std::uint32_t>&,
-                                         std::size_t, NeighbourLists&);
+                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&);
 template void build_half_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, const std::vector<std::uint32_t>&,
-                                         std::size_t, NeighbourLists&);
+                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&);
 
 }  // namespace sphdisk
 

@@ -187,11 +187,14 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
     // At most every listed partner stays: sized once, so that appending never reallocates; the
     // vector search writes up to kScanSlack entries beyond its last one.
-    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(src.offsets[i1] - src.offsets[i0] + kScanSlack);
+    std::size_t listed_here = 0;
+    for (std::size_t s = i0; s < i1; ++s) listed_here += src.count(out.order[s]);
+    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(listed_here + kScanSlack);
     B.near_count.resize(i1 - i0);
     B.far_count.resize(i1 - i0);
     std::size_t end = 0;
-    for (std::size_t i = i0; i < i1; ++i) {
+    for (std::size_t s = i0; s < i1; ++s) {
+      const std::uint32_t i = out.order[s];  // half list s is particle i's (tile order)
       const bool i_writable = i < m;
       const std::span<const std::uint32_t> own = src.list(i);  // joined or still in the search's blocks
       const std::uint32_t* first = own.data();
@@ -225,14 +228,14 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
         }
         end = kept;
       }
-      B.near_count[i - i0] = static_cast<std::uint32_t>(end - before);
-      B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
+      B.near_count[s - i0] = static_cast<std::uint32_t>(end - before);
+      B.far_count[s - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
     B.near_used = end;
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
-  // Join: offsets serially, then each block's lists (contiguous, in particle order) in parallel.
+  // Join: offsets serially, then each block's lists (contiguous, in tile order) in parallel.
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     nl->offsets.resize(n + 1);
     nl->offsets[0] = 0;
@@ -270,7 +273,7 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
 
 namespace {
 
-// The entries of `src` with keep(i, j), each list in its order; lists of all src.size() particles.
+// The entries of `src` with keep(k, j) (k: the list's index), each list in its order; all src.size() lists.
 // Kept per block of particles first (the count of a list is known only once it is filtered), then
 // joined.
 template <class Keep>
@@ -328,7 +331,8 @@ void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& 
   out.tile_cells = listed.tile_cells;
   out.tile_length = listed.tile_length;
   out.writes = listed.writes;
-  const auto interacting = [&](std::size_t i, std::uint32_t j) {
+  const auto interacting = [&](std::size_t s, std::uint32_t j) {  // list s: particle order[s]'s
+    const std::uint32_t i = listed.order[s];
     const double reach = 2.0 * std::max(h[i], h[j]);
     return norm2(pos[i] - pos[j]) < reach * reach;
   };

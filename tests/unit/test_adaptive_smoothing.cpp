@@ -59,9 +59,11 @@ void check_interaction_pairs(const Particles<D>& p, const std::vector<double>& h
   // Near lists hold the pairs of equal or adjacent tiles, far lists the others (the schedule's
   // colouring relies on it; particles with supports below a tile length skip the comparison).
   for (const auto& [lists, near] : {std::pair{&pairs.near, true}, std::pair{&pairs.far, false}})
-    for (std::size_t i = 0; i < lists->size(); ++i)
-      for (const std::uint32_t* it = lists->begin(i); it != lists->end(i); ++it)
+    for (std::size_t k = 0; k < lists->size(); ++k)  // list k is particle order[k]'s
+      for (const std::uint32_t* it = lists->begin(k); it != lists->end(k); ++it) {
+        const std::size_t i = pairs.order[k];
         ASSERT_EQ(tiles_adjacent<D>(pairs.tile.data() + D * i, pairs.tile.data() + D * *it), near) << i << " " << *it;
+      }
 }
 
 PhysicsParams viscous_no_gravity(double nu) {

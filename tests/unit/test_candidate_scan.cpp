@@ -161,7 +161,7 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     build_settled_neighbour_lists(grid, p.pos, radius, settle, gather, p.size());
     std::vector<std::uint32_t> slot(p.size());
     for (std::size_t s = 0; s < grid.sorted.size(); ++s) slot[grid.sorted[s]] = static_cast<std::uint32_t>(s);
-    build_half_neighbour_lists(grid, p.pos, 0.03, slot, p.size() / 2, half);
+    build_half_neighbour_lists(grid, p.pos, 0.03, slot, p.size() / 2, grid.sorted, half);  // lists in cell order
     PairLists from_gather;  // half lists assembled from the gather lists, supports h = radius / 2
     std::vector<double> h(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) h[i] = 0.4 * radius[i];  // the settled radius, 0.8 x searched

@@ -163,8 +163,11 @@ TEST(ListReuse, AnotherParticleOrderIsNotTheSameParticles) {
 void expect_exactly_the_interacting_pairs(const Particles<2>& p, const PairLists& pl, int step) {
   std::set<std::pair<std::uint32_t, std::uint32_t>> listed;  // read serially (for_each_pair runs on threads)
   for (const NeighbourLists* half : {&pl.near, &pl.far})
-    for (std::uint32_t i = 0; i < half->size(); ++i)
-      for (const std::uint32_t* j = half->begin(i); j != half->end(i); ++j) listed.insert({std::min(i, *j), std::max(i, *j)});
+    for (std::uint32_t k = 0; k < half->size(); ++k)  // list k is particle order[k]'s
+      for (const std::uint32_t* j = half->begin(k); j != half->end(k); ++j) {
+        const std::uint32_t i = pl.order[k];
+        listed.insert({std::min(i, *j), std::max(i, *j)});
+      }
   ASSERT_EQ(listed.size(), pl.total()) << "step " << step << ": a pair listed twice";
   std::size_t interacting = 0;
   for (std::uint32_t i = 0; i < p.size(); ++i)

@@ -79,8 +79,8 @@ template <int D>
 std::size_t pairs_owned_by_second(const HalfListSetup<D>& s) {
   std::size_t count = 0;
   for (const NeighbourLists* nl : {&s.pairs.near, &s.pairs.far})
-    for (std::size_t i = 0; i < nl->size(); ++i)
-      for (const std::uint32_t* j = nl->begin(i); j != nl->end(i); ++j) count += s.pairs.slot[*j] < s.pairs.slot[i];
+    for (std::size_t k = 0; k < nl->size(); ++k)  // list k is particle order[k]'s
+      for (const std::uint32_t* j = nl->begin(k); j != nl->end(k); ++j) count += s.pairs.slot[*j] < s.pairs.slot[s.pairs.order[k]];
   return count;
 }
 
@@ -142,7 +142,7 @@ void check_colours_write_disjoint(Particles<D> particles, double radius, int til
       const int t = static_cast<int>(pl.tiles_by_colour[k]);
       for (std::size_t q = pl.tile_start[t]; q < pl.tile_start[t + 1]; ++q) {
         const std::uint32_t i = pl.order[q];
-        for (const std::uint32_t* it = pl.near.begin(i); it != pl.near.end(i); ++it)
+        for (const std::uint32_t* it = pl.near.begin(q); it != pl.near.end(q); ++it)  // list q is i's
           for (std::uint32_t x : {i, *it}) {
             ASSERT_TRUE(writer[x] == -1 || writer[x] == t) << "tiles " << writer[x] << " and " << t << " share particle " << x;
             writer[x] = t;
@@ -188,10 +188,12 @@ void check_half_search(Particles<D> p, double radius, std::size_t writable) {
   build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
   PairLists pairs;
   build_tile_order(grid, 2, writable, pairs);
-  build_half_neighbour_lists(grid, p.pos, radius, pairs.slot, writable, pairs.near);
+  build_half_neighbour_lists(grid, p.pos, radius, pairs.slot, writable, pairs.order, pairs.near);
   no_far_pairs(pairs);
   const std::size_t n = p.size();
   ASSERT_EQ(pairs.near.size(), n);
+  std::vector<std::size_t> list_of(n);  // lists are in tile order: list s is particle order[s]'s
+  for (std::size_t s = 0; s < n; ++s) list_of[pairs.order[s]] = s;
   std::size_t expected = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     std::vector<std::uint32_t> brute;
@@ -199,7 +201,7 @@ void check_half_search(Particles<D> p, double radius, std::size_t writable) {
       if (j != i && pairs.slot[j] > pairs.slot[i] && (i < writable || j < writable) &&
           norm2(p.pos[i] - p.pos[j]) < radius * radius)
         brute.push_back(j);
-    std::vector<std::uint32_t> got(pairs.near.begin(i), pairs.near.end(i));
+    std::vector<std::uint32_t> got(pairs.near.begin(list_of[i]), pairs.near.end(list_of[i]));
     std::sort(got.begin(), got.end());
     ASSERT_EQ(got, brute) << "particle " << i;
     expected += brute.size();
@@ -252,11 +254,11 @@ void check_keep_interacting_pairs(Particles<D> p, double h0, int tile_cells) {
   EXPECT_GT(kept.far.total(), 0u);
   EXPECT_GT(expected.size(), n);  // dense enough to mean something
   for (const auto& [from, to] : {std::pair{&listed.near, &kept.near}, std::pair{&listed.far, &kept.far}})
-    for (std::size_t i = 0; i < n; ++i) {  // each kept list a subsequence of the listed one
-      const std::uint32_t* at = from->begin(i);
-      for (const std::uint32_t* j = to->begin(i); j != to->end(i); ++j, ++at) {
-        at = std::find(at, from->end(i), *j);
-        ASSERT_NE(at, from->end(i)) << "particle " << i << ": pair with " << *j << " not in the listed order";
+    for (std::size_t k = 0; k < n; ++k) {  // each kept list a subsequence of the listed one
+      const std::uint32_t* at = from->begin(k);
+      for (const std::uint32_t* j = to->begin(k); j != to->end(k); ++j, ++at) {
+        at = std::find(at, from->end(k), *j);
+        ASSERT_NE(at, from->end(k)) << "list " << k << ": pair with " << *j << " not in the listed order";
       }
     }
 }
