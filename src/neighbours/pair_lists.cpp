@@ -187,14 +187,11 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
     // At most every listed partner stays: sized once, so that appending never reallocates; the
     // vector search writes up to kScanSlack entries beyond its last one.
-    std::size_t listed_here = 0;
-    for (std::size_t s = i0; s < i1; ++s) listed_here += src.count(out.order[s]);
-    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(listed_here + kScanSlack);
+    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(src.offsets[i1] - src.offsets[i0] + kScanSlack);
     B.near_count.resize(i1 - i0);
     B.far_count.resize(i1 - i0);
     std::size_t end = 0;
-    for (std::size_t s = i0; s < i1; ++s) {
-      const std::uint32_t i = out.order[s];  // half list s is particle i's (tile order)
+    for (std::size_t i = i0; i < i1; ++i) {  // in particle order, as the gather lists lie in memory
       const bool i_writable = i < m;
       const std::span<const std::uint32_t> own = src.list(i);  // joined or still in the search's blocks
       const std::uint32_t* first = own.data();
@@ -228,34 +225,44 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
         }
         end = kept;
       }
-      B.near_count[s - i0] = static_cast<std::uint32_t>(end - before);
-      B.far_count[s - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
+      B.near_count[i - i0] = static_cast<std::uint32_t>(end - before);
+      B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
     B.near_used = end;
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
-  // Join: offsets serially, then each block's lists (contiguous, in tile order) in parallel.
+  // Join in tile order (pair_lists.hpp): where each particle's lists start in its block, the
+  // offsets in tile order serially, then every list copied to its place in parallel.
+  std::vector<std::uint32_t> near_at(n), far_at(n);  // first entry of i's lists in its block
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    const Block& B = blocks[b];
+    std::uint32_t near_end = 0, far_end = 0;
+    for (std::size_t k = 0; k < B.near_count.size(); ++k) {
+      near_at[b * kBlock + k] = near_end;
+      far_at[b * kBlock + k] = far_end;
+      near_end += B.near_count[k];
+      far_end += B.far_count[k];
+    }
+  }
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     nl->offsets.resize(n + 1);
     nl->offsets[0] = 0;
   }
-  for (std::size_t b = 0; b < nblocks; ++b) {
-    const std::size_t i0 = b * kBlock;
-    const Block& B = blocks[b];
-    for (std::size_t k = 0; k < B.near_count.size(); ++k) {
-      out.near.offsets[i0 + k + 1] = out.near.offsets[i0 + k] + B.near_count[k];
-      out.far.offsets[i0 + k + 1] = out.far.offsets[i0 + k] + B.far_count[k];
-    }
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t i = out.order[s];
+    const Block& B = blocks[i / kBlock];
+    out.near.offsets[s + 1] = out.near.offsets[s] + B.near_count[i % kBlock];
+    out.far.offsets[s + 1] = out.far.offsets[s] + B.far_count[i % kBlock];
   }
   resize_snug(out.near.index, out.near.offsets[n]);
   resize_snug(out.far.index, out.far.offsets[n]);
-  par::for_each(nblocks, [&](std::size_t b) {
-    const Block& B = blocks[b];
-    const std::size_t i0 = b * kBlock;
-    std::copy_n(B.near.get(), B.near_used, out.near.index.data() + out.near.offsets[i0]);
-    std::copy(B.far.begin(), B.far.end(), out.far.index.data() + out.far.offsets[i0]);
-  });
+  par::for_each(n, [&](std::size_t s) {
+    const std::uint32_t i = out.order[s];
+    const Block& B = blocks[i / kBlock];
+    std::copy_n(B.near.get() + near_at[i], out.near.count(s), out.near.index.data() + out.near.offsets[s]);
+    std::copy_n(B.far.data() + far_at[i], out.far.count(s), out.far.index.data() + out.far.offsets[s]);
+  }, "neighbour_search", 1024);
 }
 
 template <int D>
