@@ -1,5 +1,7 @@
 #include "physics/kernel_terms.hpp"
 
+#include <cmath>
+
 #include "core/vector_isa.hpp"
 #include "physics/kernels.hpp"
 
@@ -24,7 +26,14 @@ void terms_baseline(const double* dist, double inv_h, std::size_t n, double* w, 
   terms<K, D>(dist, inv_h, n, w, dw);
 }
 
+[[gnu::always_inline]] inline void roots(const double* __restrict dist2, std::size_t n, double* __restrict dist) {
+  for (std::size_t k = 0; k < n; ++k) dist[k] = std::sqrt(dist2[k]);
+}
+
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
+[[gnu::target("avx512f")]] void roots_avx512(const double* dist2, std::size_t n, double* dist) { roots(dist2, n, dist); }
+[[gnu::target("avx2")]] void roots_avx2(const double* dist2, std::size_t n, double* dist) { roots(dist2, n, dist); }
+
 template <class K, int D>
 [[gnu::target("avx512f")]] void terms_avx512(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
   terms<K, D>(dist, inv_h, n, w, dw);
@@ -48,6 +57,17 @@ void kernel_terms(const double* dist, double inv_h, std::size_t n, double* w, do
   }
 #endif
   terms_baseline<K, D>(dist, inv_h, n, w, dw);
+}
+
+void square_roots(const double* dist2, std::size_t n, double* dist) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return roots_avx512(dist2, n, dist);
+    case VectorIsa::avx2: return roots_avx2(dist2, n, dist);
+    case VectorIsa::baseline: break;
+  }
+#endif
+  roots(dist2, n, dist);
 }
 
 #define SPHDISK_KERNEL_TERMS(K)                                                                  \

@@ -97,7 +97,7 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   if (!uniform)
     for (std::size_t k = 0; k < cand.size(); ++k) mass[k] = p.mass[cand[k]];
   if (dist2.size() == cand.size()) {
-    for (std::size_t k = 0; k < cand.size(); ++k) dist[k] = std::sqrt(dist2[k]);
+    square_roots(dist2.data(), cand.size(), dist);  // kernel_terms.hpp
   } else {
     for (std::size_t k = 0; k < cand.size(); ++k) dist[k] = norm(p.pos[i] - p.pos[cand[k]]);
   }
