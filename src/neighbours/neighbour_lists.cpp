@@ -166,12 +166,12 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
       if (used + more <= idx.size()) return;
       idx.resize(std::max(2 * idx.size(), used + more + 256));
     };
-    for (std::size_t k = i0; k < i1; ++k) {
-      const std::size_t i = visit ? visit[k] : k;  // list k is particle i's
+    for (std::size_t list = i0; list < i1; ++list) {
+      const std::size_t i = visit ? visit[list] : list;  // list `list` is particle i's
       const Vec<D> xi = pos[i];
       const std::size_t before = used;
       if (filtered && !filter.any_within(grid, xi, radius_of(i))) {  // no candidate in reach: an empty list
-        cnt[k - i0] = 0;
+        cnt[list - i0] = 0;
         continue;
       }
       for (double radius = radius_of(i);;) {
@@ -219,7 +219,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         break;
       }
       if (!kKeep) used = before;
-      cnt[k - i0] = static_cast<std::uint32_t>(used - before);
+      cnt[list - i0] = static_cast<std::uint32_t>(used - before);
     }
     idx.swap(block_index[b]);  // kept at its buffer size: the block's lists are its first `used` entries
     cnt.swap(block_count[b]);
