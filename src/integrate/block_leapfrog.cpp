@@ -37,7 +37,7 @@
 #include <stdexcept>
 
 #include "integrate/integrator.hpp"
-#include "integrate/point_mass_drift.hpp"
+#include "integrate/orbit_drift.hpp"
 
 namespace sphdisk {
 
@@ -45,25 +45,13 @@ namespace {
 
 constexpr int kMaxBins = 20;  // steps down to Delta / 2^20
 constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
+constexpr std::size_t kDriftBlock = 1024;  // particles per work unit of the drift
 
 // The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
 std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
   std::uint64_t s = kTicks;
   while (s > 1 && (static_cast<double>(s) * tick_duration > dt || tick % s != 0)) s >>= 1;
   return s;
-}
-
-// S <- R S R^T for the rotation about z that takes the direction of `from` to that of `to` (x-y
-// components; z untouched in 3D). S in its storage form (core/particles.hpp), turned in double.
-template <int D, class T>
-void turn_with_orbit(Mat<D, T>& S, const Vec<D>& from, const Vec<D>& to) {
-  const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
-  if (!(norms > 0)) return;
-  const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
-  Mat<D> R = identity<D>(), Rt = identity<D>();
-  R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
-  Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
-  store(S, R * as_double(S) * Rt);
 }
 
 }  // namespace
@@ -108,15 +96,18 @@ class BlockLeapfrog final : public Integrator<D> {
       std::size_t active = 0;
       {
         ScopedPhase timer(rates_.timers(), "integration");
-        par::for_each(n, [&](std::size_t i) {
-          const Vec<D> from = p.pos[i];
-          drift_in_point_mass_field(p.pos[i], v_kick_[i], dt, phys.gm, f.substep);
-          turn_with_orbit(p.stress[i], from, p.pos[i]);  // active particles get theirs anew
-          // predicted to `next`: t - t_mid = (next - start - length / 2) ticks
-          const double ahead = (static_cast<double>(next - start_[i]) - 0.5 * static_cast<double>(length_[i])) * tick;
-          p.vel[i] = v_kick_[i] + p.acc[i] * ahead;
-          if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * ahead;
-        }, "integration");
+        par::for_each((n + kDriftBlock - 1) / kDriftBlock, [&](std::size_t b) {
+          const std::size_t i0 = b * kDriftBlock, i1 = std::min(n, i0 + kDriftBlock);
+          // Moved in the point mass's field, stresses turned with the orbit (active particles get
+          // theirs anew): orbit_drift.hpp.
+          drift_and_turn(p.pos.data() + i0, v_kick_.data() + i0, p.stress.data() + i0, i1 - i0, dt, phys.gm, f.substep);
+          for (std::size_t i = i0; i < i1; ++i) {
+            // predicted to `next`: t - t_mid = (next - start - length / 2) ticks
+            const double ahead = (static_cast<double>(next - start_[i]) - 0.5 * static_cast<double>(length_[i])) * tick;
+            p.vel[i] = v_kick_[i] + p.acc[i] * ahead;
+            if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * ahead;
+          }
+        }, "integration", 1);
         active = active_prefix(next);
       }
       rates_.evaluate(p, active);
