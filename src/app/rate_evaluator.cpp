@@ -378,7 +378,9 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       } else {
         // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
-        build_half_neighbour_lists(grid_, p.pos, listed, pairs_lists_.slot, active, pairs_lists_.order, pairs_lists_.near);
+        // Read where the search left them, unless reused lists are filtered (keep_interacting_pairs).
+        build_half_neighbour_lists(grid_, p.pos, listed, pairs_lists_.slot, active, pairs_lists_.order, pairs_lists_.near,
+                                   reusable);
         no_far_pairs(pairs_lists_);
         lists_built(p, reusable);
       }

@@ -256,9 +256,9 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 template <int D>
 void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
                                 const std::vector<std::uint32_t>& slot, std::size_t writable,
-                                const std::vector<std::uint32_t>& order, NeighbourLists& nl) {
+                                const std::vector<std::uint32_t>& order, NeighbourLists& nl, bool join) {
   build_lists(grid, pos, 0, pos.size(), [radius](std::size_t) { return radius; }, KeepAll{}, nl, CandidateFilter{},
-              LaterOfWritablePairs{slot, writable}, true, order.data());
+              LaterOfWritablePairs{slot, writable}, join, order.data());
 }
 
 template <int D>
@@ -341,9 +341,9 @@ template void append_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3
                                      const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_half_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, double, const std::vector<std::uint32_t>&,
-                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&);
+                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&, bool);
 template void build_half_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, const std::vector<std::uint32_t>&,
-                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&);
+                                         std::size_t, const std::vector<std::uint32_t>&, NeighbourLists&, bool);
 
 }  // namespace sphdisk
 

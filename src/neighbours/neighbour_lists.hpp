@@ -56,10 +56,12 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 // place in grid.sorted) and i or j is below `writable`. Only the half of the stencil after i is
 // scanned. Lists for all particles, in the order the pair loops visit them: list k is particle
 // order[k]'s (a permutation of the particles; pair_lists.hpp).
+// join = false leaves them in the builder's blocks (NeighbourLists::joined), where the pair loops
+// read them (pair_lists.hpp).
 template <int D>
 void build_half_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, double radius,
                                 const std::vector<std::uint32_t>& slot, std::size_t writable,
-                                const std::vector<std::uint32_t>& order, NeighbourLists& out);
+                                const std::vector<std::uint32_t>& order, NeighbourLists& out, bool join = true);
 
 // Gather lists with a search radius per particle (variable smoothing lengths): j is in i's list
 // when |x_i - x_j| < radius[i]. The cell size may be smaller than the radii; more cells are scanned.

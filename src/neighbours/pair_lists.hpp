@@ -108,7 +108,7 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
   par::for_each_coloured(pl.colour_start, [&](std::size_t c) {
     const std::uint32_t t = pl.tiles_by_colour[c];
     for (std::size_t s = pl.tile_start[t]; s < pl.tile_start[t + 1]; ++s) {
-      if (near.count(s) > 0) f(pl.order[s], std::span<const std::uint32_t>(near.begin(s), near.count(s)), near.offsets[s]);
+      if (near.count(s) > 0) f(pl.order[s], near.list(s), near.offsets[s]);  // joined or still in the builder's blocks
     }
   }, trace_label);
   const NeighbourLists& far = pl.far;
