@@ -14,15 +14,6 @@ namespace sphdisk {
 
 namespace {
 
-// a^2 + b^2 as norm2 forms it (core/vec.hpp), on plain doubles.
-[[gnu::always_inline]] inline double squares(double a, double b) {
-#ifdef __FMA__
-  return std::fma(b, b, a * a);
-#else
-  return a * a + b * b;
-#endif
-}
-
 // A run of 2D particles component by component (GCC vectorises the loops below on separate arrays,
 // not on the interleaved x, y of Vec<2>): positions before (x0, y0) and after (x, y), velocities,
 // stress components, and several = 1 where a particle needs more than one substep, else 0.

@@ -1,7 +1,7 @@
 #pragma once
 // The point mass's part of a block step for all particles at once (block_leapfrog.cpp): each
 // particle moved over dt in the point mass's field (drift_in_point_mass_field) and its stored
-// stress turned with its orbit (turn_with_orbit). This loop ran over every particle at every tick
+// stress turned with its orbit (turned_with_orbit). This loop ran over every particle at every tick
 // where some step ends, scalar, and took 12% of a block run (8.1 of 69.9 s on the 100k ring). Over
 // one tick nearly every particle needs a single gravity substep, so the loop is written for that
 // case without branches, which compiles to vector code (in 2D dispatched at run time to AVX2 or
