@@ -102,6 +102,11 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
   if (reusable) kept_.resize(owned);
+  // One process, every particle active, lists not kept for reuse (the common case): the gather
+  // lists are made in the pair loops' tile order, from which the half lists are written where the
+  // loops read them, with no copy (pair_lists.hpp). Else list i is particle i's, as appending
+  // (inactive particles) and reuse need.
+  const bool tile_ordered = !domain_ && active == owned && !reusable && storage_ == PairStorage::Stored;
   double cell_size;
   // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
   // reach over more cells; any cell size gives the same lists.
@@ -169,10 +174,12 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     };
     {
       ScopedPhase t(timers_, "neighbour_search");
+      if (tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
       if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
       // Left in the search's blocks unless reused lists will be read again (the half lists read
       // them there; appending joins them).
-      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable);
+      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable,
+                                         tile_ordered ? pairs_lists_.order.data() : nullptr);
     }
     smoothing_length_sums_ += total_of(solve_sums_);
     if (!domain_) break;
@@ -206,12 +213,12 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     append_neighbour_lists(grid_, p.pos, active, search_radius_, candidates_, active < owned ? active : SIZE_MAX);
   }
   // Each pair once, from the gather lists (pair_lists.hpp).
-  build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
+  if (!tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
   if (reusable) {  // the lists hold every pair closer than either particle's gather radius
     listed_h_.resize(owned);
     for (std::size_t i = 0; i < owned; ++i) listed_h_[i] = 0.5 * kept_[i];
   }
-  build_half_lists_from_gather(candidates_, p.pos, reusable ? listed_h_ : p.h, pairs_lists_);
+  build_half_lists_from_gather(candidates_, p.pos, reusable ? listed_h_ : p.h, pairs_lists_, tile_ordered);
   lists_built(p, reusable);
 }
 

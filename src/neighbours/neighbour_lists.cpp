@@ -226,22 +226,7 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
   }, "neighbour_search", 1);
   if (!kKeep) return;
 
-  nl.offsets.resize(n + 1);
-  nl.offsets[0] = 0;
-  std::vector<std::size_t> block_start(nblocks + 1, 0);
-  for (std::size_t b = 0; b < nblocks; ++b) {
-    std::size_t used = 0;
-    for (const std::uint32_t c : block_count[b]) used += c;
-    block_start[b + 1] = block_start[b] + used;
-  }
-  par::for_each(nblocks, [&](std::size_t b) {
-    std::size_t off = block_start[b];
-    for (std::size_t k = 0; k < block_count[b].size(); ++k) {
-      off += block_count[b][k];
-      nl.offsets[b * kBlock + k + 1] = off;
-    }
-  }, {}, 1);
-  nl.joined = false;
+  nl.offsets_from_blocks(n);
   if (join) nl.join();
 }
 
@@ -270,9 +255,9 @@ void build_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& p
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& nl, std::size_t count, bool join) {
+                                   NeighbourLists& nl, std::size_t count, bool join, const std::uint32_t* visit) {
   build_lists(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; },
-              settle, nl, CandidateFilter{}, AllOthers{}, join);
+              settle, nl, CandidateFilter{}, AllOthers{}, join, visit);
 }
 
 template <int D>
@@ -280,6 +265,26 @@ void settle_without_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& po
                           const SettleRadius& settle, std::size_t count) {
   NeighbourLists scratch;
   build_lists<false>(grid, pos, 0, std::min(count, pos.size()), [&first_radius](std::size_t i) { return first_radius[i]; }, settle, scratch);
+}
+
+void NeighbourLists::offsets_from_blocks(std::size_t n) {
+  const std::size_t nblocks = (n + kBlock - 1) / kBlock;
+  offsets.resize(n + 1);
+  offsets[0] = 0;
+  std::vector<std::size_t> block_start(nblocks + 1, 0);
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    std::size_t used = 0;
+    for (const std::uint32_t c : block_count[b]) used += c;
+    block_start[b + 1] = block_start[b] + used;
+  }
+  par::for_each(nblocks, [&](std::size_t b) {
+    std::size_t off = block_start[b];
+    for (std::size_t k = 0; k < block_count[b].size(); ++k) {
+      off += block_count[b][k];
+      offsets[b * kBlock + k + 1] = off;
+    }
+  }, {}, 1);
+  joined = false;
 }
 
 void NeighbourLists::join() {
@@ -328,9 +333,9 @@ template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>
 template void build_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, double, NeighbourLists&, std::size_t);
 template void build_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&, NeighbourLists&, std::size_t);
 template void build_settled_neighbour_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&, std::size_t, bool);
+                                            const SettleRadius&, NeighbourLists&, std::size_t, bool, const std::uint32_t*);
 template void build_settled_neighbour_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,
-                                            const SettleRadius&, NeighbourLists&, std::size_t, bool);
+                                            const SettleRadius&, NeighbourLists&, std::size_t, bool, const std::uint32_t*);
 template void settle_without_lists(const CellGrid<2>&, const std::vector<Vec<2>>&, const std::vector<double>&,
                                    const SettleRadius&, std::size_t);
 template void settle_without_lists(const CellGrid<3>&, const std::vector<Vec<3>>&, const std::vector<double>&,

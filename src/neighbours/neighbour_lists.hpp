@@ -21,8 +21,6 @@ struct NeighbourLists {
 
   std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
-  const std::uint32_t* begin(std::size_t i) const { return index.data() + offsets[i]; }  // joined lists only
-  const std::uint32_t* end(std::size_t i) const { return index.data() + offsets[i + 1]; }
   std::size_t total() const { return offsets.empty() ? 0 : offsets.back(); }
 
   // Builder scratch, one buffer per block of kBlock particles, kept between builds so that
@@ -39,6 +37,11 @@ struct NeighbourLists {
     const std::size_t b = i / kBlock;
     return {block_index[b].data() + (offsets[i] - offsets[b * kBlock]), count(i)};
   }
+  const std::uint32_t* begin(std::size_t i) const { return list(i).data(); }  // joined or not
+  const std::uint32_t* end(std::size_t i) const { return begin(i) + count(i); }
+  // The offsets of n lists left in the blocks (block b's counts: block_count[b], one per list); not
+  // joined.
+  void offsets_from_blocks(std::size_t n);
   void join();  // copies the blocks' lists into index (in parallel); nothing if joined
 
   std::size_t bytes() const;  // memory held (capacities, builder scratch included)
@@ -81,10 +84,13 @@ using SettleRadius = std::function<double(std::size_t, std::span<const std::uint
 
 // Lists are made for the first `count` particles (the rest, e.g. ghosts, are only candidates).
 // join = false leaves them in the builder's blocks (NeighbourLists::joined).
+// visit: null, or the order of the lists (list k is particle visit[k]'s; a permutation of the first
+// `count` particles), e.g. the pair loops' tile order (pair_lists.hpp).
 template <int D>
 void build_settled_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos,
                                    const std::vector<double>& first_radius, const SettleRadius& settle,
-                                   NeighbourLists& out, std::size_t count = SIZE_MAX, bool join = true);
+                                   NeighbourLists& out, std::size_t count = SIZE_MAX, bool join = true,
+                                   const std::uint32_t* visit = nullptr);
 
 // The same search with nothing listed: settle(i, candidates, dist2, radius) alone sees each particle's
 // candidates (the smoothing-length solve of a run that keeps no lists, pair_scan.hpp), and at most

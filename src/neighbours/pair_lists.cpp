@@ -13,7 +13,7 @@ namespace sphdisk {
 
 namespace {
 
-constexpr std::size_t kBlock = 1024;  // listed particles per work unit of the half-list pass
+constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_from and filter_lists
 
 template <int D>
 constexpr int colours(TileWrites writes) {
@@ -166,13 +166,57 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // within_tile(i): whether i's whole list lies within one tile length of it, so that every partner
 // is in the same or an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and
 // the tiles need not be compared (all but the ~1% widest supports).
+// HalfListOf::of(i, own, near, far): i's half list from its gather list `own`, written to near
+// (room for own.size() + kScanSlack entries), its far pairs appended to far; returns the near count.
+template <int D, class WithinTile>
+struct HalfListOf {
+  const PairLists& out;
+  const std::vector<Vec<D>>& pos;
+  const std::vector<double>& h;
+  WithinTile& within_tile;
+
+  std::size_t of(std::uint32_t i, std::span<const std::uint32_t> own, std::uint32_t* near, std::vector<std::uint32_t>& far) const {
+    const std::size_t m = out.writable;
+    const std::vector<std::uint32_t>& slot = out.slot;
+    const std::int32_t* tile = out.tile.data();
+    const bool i_writable = i < m;
+    const std::uint32_t* first = own.data();
+    const std::uint32_t* last = first + own.size();
+    assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
+    const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);
+    // The earlier partners that j's list lacks, written straight to the list.
+    EarlierPartners e;
+    if constexpr (D == 2)
+      e = earlier_partners(first, own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
+    else
+      e = earlier_partners_scalar<D>(first, own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
+    std::size_t end = e.lacking;
+    const std::uint32_t* later = first + e.count;
+    std::copy(later, last, near + end);
+    end += static_cast<std::size_t>(last - later);
+    if (i_writable && within_tile(i)) return end;
+    // Else sorted into near and far (branch-free for the near ones), and pairs of two unwritable
+    // ones dropped (the lacking ones are writable already: earlier_partners' limit).
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < end; ++k) {
+      const std::uint32_t j = near[k];
+      const bool is_near = tiles_adjacent<D>(tile + D * i, tile + D * j);
+      const bool wanted = i_writable | (j < m);
+      near[kept] = j;
+      kept += static_cast<std::size_t>(is_near & wanted);
+      if (!is_near && wanted) far.push_back(j);
+    }
+    return kept;
+  }
+};
+
+// From gather lists in particle order (list i: particle i's), read as they lie in memory; each
+// block's half lists are then copied to their places in tile order.
 template <int D, class WithinTile>
 void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
                      WithinTile&& within_tile) {
+  const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
   const std::size_t n = src.size();
-  const std::size_t m = out.writable;
-  const std::vector<std::uint32_t>& slot = out.slot;
-  const std::int32_t* tile = out.tile.data();
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
   struct Block {
     // The block's near lists, one after the other (not zero-filled: every entry is written before
@@ -192,40 +236,10 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
     B.far_count.resize(i1 - i0);
     std::size_t end = 0;
     for (std::size_t i = i0; i < i1; ++i) {  // in particle order, as the gather lists lie in memory
-      const bool i_writable = i < m;
-      const std::span<const std::uint32_t> own = src.list(i);  // joined or still in the search's blocks
-      const std::uint32_t* first = own.data();
-      const std::uint32_t* last = first + own.size();
-      assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
-      const auto listed = static_cast<std::size_t>(last - first);
-      const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);
-      // The earlier partners that j's list lacks, written straight to the block's lists.
-      const std::size_t before = end, far_before = B.far.size();
-      EarlierPartners e;
-      if constexpr (D == 2)
-        e = earlier_partners(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, B.near.get() + end);
-      else
-        e = earlier_partners_scalar<D>(first, listed, slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, B.near.get() + end);
-      end += e.lacking;
-      const std::uint32_t* later = first + e.count;
-      std::copy(later, last, B.near.get() + end);
-      end += static_cast<std::size_t>(last - later);
-      // All near for a writable particle within one tile length; else sorted into near and far
-      // (branch-free for the near ones), and pairs of two unwritable ones dropped (the lacking
-      // ones are writable already: earlier_partners' limit).
-      if (!(i_writable && within_tile(i))) {
-        std::size_t kept = before;
-        for (std::size_t k = before; k < end; ++k) {
-          const std::uint32_t j = B.near[k];
-          const bool near = tiles_adjacent<D>(tile + D * i, tile + D * j);
-          const bool wanted = i_writable | (j < m);
-          B.near[kept] = j;
-          kept += static_cast<std::size_t>(near & wanted);
-          if (!near && wanted) B.far.push_back(j);
-        }
-        end = kept;
-      }
-      B.near_count[i - i0] = static_cast<std::uint32_t>(end - before);
+      const std::size_t far_before = B.far.size();
+      const std::size_t count = half.of(static_cast<std::uint32_t>(i), src.list(i), B.near.get() + end, B.far);
+      end += count;
+      B.near_count[i - i0] = static_cast<std::uint32_t>(count);
       B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
     B.near_used = end;
@@ -248,6 +262,7 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     nl->offsets.resize(n + 1);
     nl->offsets[0] = 0;
+    nl->joined = true;
   }
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t i = out.order[s];
@@ -265,9 +280,63 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
   }, "neighbour_search", 1024);
 }
 
+// From gather lists already in tile order (list s: particle out.order[s]'s, the search having
+// visited the particles in that order): read front to back and written front to back into the
+// near lists' blocks (NeighbourLists::list reads them there), so that no list is copied again and
+// no per-build buffer is faulted in (the blocks are kept between builds).
+template <int D, class WithinTile>
+void half_lists_in_tile_order(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
+                              PairLists& out, WithinTile&& within_tile) {
+  const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
+  const std::size_t n = src.size();
+  constexpr std::size_t kListBlock = NeighbourLists::kBlock;  // blocks as NeighbourLists::list reads them
+  const std::size_t nblocks = (n + kListBlock - 1) / kListBlock;
+  for (NeighbourLists* nl : {&out.near, &out.far})
+    if (nl->block_index.size() < nblocks) {  // grown, never shrunk (as the search's blocks)
+      nl->block_index.resize(nblocks);
+      nl->block_count.resize(nblocks);
+    }
+  par::for_each(nblocks, [&](std::size_t b) {
+    std::vector<std::uint32_t> near, near_count, far, far_count;  // local headers, the blocks' memory reused
+    near.swap(out.near.block_index[b]);
+    near_count.swap(out.near.block_count[b]);
+    far.swap(out.far.block_index[b]);
+    far_count.swap(out.far.block_count[b]);
+    const std::size_t s0 = b * kListBlock, s1 = std::min(n, s0 + kListBlock);
+    near_count.resize(s1 - s0);
+    far_count.resize(s1 - s0);
+    far.clear();
+    // The block's lists are made in this thread's scratch (in cache; it only grows), then copied
+    // to the block's buffer at their exact size (grown by 1/16 beyond need: resize_snug). Written
+    // into the buffer directly, it had to be grown for a whole gather list ahead of each half list,
+    // and vector growth left up to half of it unused.
+    thread_local std::vector<std::uint32_t> scratch;
+    std::size_t end = 0;
+    for (std::size_t s = s0; s < s1; ++s) {
+      const std::span<const std::uint32_t> own = src.list(s);
+      std::uint32_t* at = scratch_for(scratch, end + own.size() + kScanSlack) + end;
+      const std::size_t far_before = far.size();
+      const std::size_t count = half.of(out.order[s], own, at, far);
+      end += count;
+      near_count[s - s0] = static_cast<std::uint32_t>(count);
+      far_count[s - s0] = static_cast<std::uint32_t>(far.size() - far_before);
+    }
+    resize_snug(near, end);
+    std::copy_n(scratch.data(), end, near.data());
+    near.swap(out.near.block_index[b]);
+    near_count.swap(out.near.block_count[b]);
+    far.swap(out.far.block_index[b]);
+    far_count.swap(out.far.block_count[b]);
+  }, "neighbour_search", 1);
+  std::vector<std::uint32_t>().swap(out.near.index);  // no joined copy (of an earlier build's lists)
+  out.near.offsets_from_blocks(n);
+  out.far.offsets_from_blocks(n);
+  out.far.join();  // few (the widest supports): read joined (for_each_pair_list)
+}
+
 template <int D>
 void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
-                                  const std::vector<double>& h, PairLists& out) {
+                                  const std::vector<double>& h, PairLists& out, bool in_tile_order) {
   if (gather.size() != out.order.size())
     throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
   if (out.writes != TileWrites::AllNeighbours)
@@ -275,7 +344,9 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
   // j's gather list lacks i exactly when i lies outside j's own support (the test of its search).
   // i's list reaches 2 h_i; the margin covers the round-off of the cell coordinates.
   const double within = (1.0 - 1e-9) * out.tile_length;
-  half_lists_from<D>(gather, pos, h, out, [&](std::size_t i) { return 2.0 * h[i] < within; });
+  const auto within_tile = [&](std::size_t i) { return 2.0 * h[i] < within; };
+  if (in_tile_order) half_lists_in_tile_order<D>(gather, pos, h, out, within_tile);
+  else half_lists_from<D>(gather, pos, h, out, within_tile);
 }
 
 namespace {
@@ -299,9 +370,9 @@ void filter_lists(const NeighbourLists& src, NeighbourLists& out, Keep&& keep) {
     std::size_t end = 0;
     for (std::size_t i = i0; i < i1; ++i) {  // branch-free: every entry written, the end advanced for kept ones
       const std::size_t before = end;
-      for (const std::uint32_t* it = src.begin(i); it != src.end(i); ++it) {
-        idx[end] = *it;
-        end += static_cast<std::size_t>(keep(i, *it));
+      for (const std::uint32_t j : src.list(i)) {
+        idx[end] = j;
+        end += static_cast<std::size_t>(keep(i, j));
       }
       cnt[i - i0] = static_cast<std::uint32_t>(end - before);
     }
@@ -354,8 +425,8 @@ void no_far_pairs(PairLists& out) {
 
 template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&, TileWrites);
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&, TileWrites);
-template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
-template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
+template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&, bool);
+template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&, bool);
 template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
 template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 

@@ -73,9 +73,12 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // Hernquist & Katz 1989). A pair belongs to the first particle in cell order whose gather list
 // holds it, which may be the second particle of the pair: `out`'s tile order must have been built
 // with TileWrites::AllNeighbours.
+// in_tile_order: gather list s is particle out.order[s]'s (searched in that order: then the half
+// lists are written where the pair loops read them, out.near left in its blocks); else list i is
+// particle i's.
 template <int D>
 void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
-                                  const std::vector<double>& h, PairLists& out);
+                                  const std::vector<double>& h, PairLists& out, bool in_tile_order = false);
 
 // Step 3 of lists built wider than the supports (reused with a skin, list_reuse.hpp): `out` gets
 // `listed`'s schedule and, of its pairs, those closer than 2 max(h_i, h_j) now, in the same order.

@@ -306,3 +306,43 @@ TEST(PairLists, GatherListsReadInTheirBlocksEqualJoinedOnes) {
   EXPECT_TRUE(blocked.joined);
   EXPECT_EQ(blocked.index, joined.index);
 }
+
+// Gather lists searched in the tile order (list s: particle order[s]'s) give the half lists of the
+// gather lists in particle order, entry for entry (written straight into the near lists' blocks
+// instead of copied into place). Some particles unwritable and tiles of 2 cells, so that far lists
+// and dropped pairs occur; the second build reuses the first one's blocks with other radii.
+TEST(PairLists, HalfListsFromGatherListsInTileOrder) {
+  const auto p = test::random_particles<2>(5000, 43, true);
+  const auto grid = build_cell_grid(p.pos, p.id, 0.02);
+  const SettleRadius keep_all = [](std::size_t, std::span<const std::uint32_t>, std::span<const double>, double searched) {
+    return searched;
+  };
+  PairLists reused;
+  for (const double spread : {0.02, 0.035}) {
+    std::vector<double> radius(p.size()), h(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      radius[i] = 0.025 + spread * static_cast<double>(i % 7) / 7.0;
+      h[i] = 0.5 * radius[i];
+    }
+    const std::size_t writable = p.size() * 3 / 4;
+    PairLists by_particle;
+    build_tile_order(grid, 2, writable, by_particle, TileWrites::AllNeighbours);
+    NeighbourLists gather, gather_tiled;
+    build_settled_neighbour_lists(grid, p.pos, radius, keep_all, gather, p.size());
+    build_half_lists_from_gather(gather, p.pos, h, by_particle);
+    build_tile_order(grid, 2, writable, reused, TileWrites::AllNeighbours);
+    build_settled_neighbour_lists(grid, p.pos, radius, keep_all, gather_tiled, p.size(), false, reused.order.data());
+    build_half_lists_from_gather(gather_tiled, p.pos, h, reused, true);
+    EXPECT_FALSE(reused.near.joined);  // read in the blocks
+    EXPECT_EQ(reused.order, by_particle.order);
+    EXPECT_EQ(reused.near.offsets, by_particle.near.offsets);
+    EXPECT_EQ(reused.far.offsets, by_particle.far.offsets);
+    EXPECT_GT(by_particle.near.total(), 5 * p.size());
+    EXPECT_GT(by_particle.far.total(), 100u);  // far lists exercised
+    for (std::size_t s = 0; s < p.size(); ++s) {
+      const auto a = reused.near.list(s), b = by_particle.near.list(s);
+      ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "list " << s;
+    }
+    EXPECT_EQ(reused.far.index, by_particle.far.index);
+  }
+}
