@@ -44,9 +44,12 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
   for (std::uint32_t s = s0; s < s1; s += 8) {
     const unsigned n = s1 - s < 8 ? s1 - s : 8;
     const auto live = static_cast<__mmask8>((1u << n) - 1u);
-    const double* at = base + 2 * std::size_t{s};  // 2 n doubles: up to eight in a, the rest in b
-    const __m512d a = avx512::load_f64(at, 2 * std::min(n, 4u));
-    const __m512d b = avx512::load_f64(at + 8, n > 4 ? 2 * (n - 4) : 0);
+    // Entries loaded: whole vectors where the slots go on past the range (the lanes beyond it are
+    // not live), else only the range's (masked loads).
+    const unsigned m = std::size_t{s} + 8 <= t.readable ? 8 : n;
+    const double* at = base + 2 * std::size_t{s};  // 2 m doubles: up to eight in a, the rest in b
+    const __m512d a = avx512::load_f64(at, 2 * std::min(m, 4u));
+    const __m512d b = avx512::load_f64(at + 8, m > 4 ? 2 * (m - 4) : 0);
     const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), x);
     const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), y);
 #ifdef __FMA__
@@ -54,7 +57,7 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
 #else
     const __m512d dist2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
 #endif
-    const __m256i j = avx512::load_u32(js + s, n);
+    const __m256i j = avx512::load_u32(js + s, m);
     __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, r2, _CMP_LT_OQ);
     keep = _mm256_mask_cmpneq_epu32_mask(keep, j, self);
     keep = _mm256_mask_cmplt_epu32_mask(keep, j, limit);

@@ -27,6 +27,10 @@ struct ScanTarget {
   double r2;
   std::uint32_t self;   // UINT32_MAX: none
   std::uint32_t limit;  // UINT32_MAX: none
+  // The slots that exist (js and xs hold at least this many): a vector scan may read past the end
+  // of its range within them (whole vectors, the lanes beyond the range ignored) instead of masking
+  // its loads, which is slow on AMD's AVX-512 CPUs. 0: only the range is read.
+  std::uint32_t readable = 0;
 };
 
 // Appends the accepted candidates of slots [s0, s1) (indices js[s], positions xs[s]) to out, their

@@ -178,7 +178,8 @@ void build_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& pos, std::s
         const double r2 = radius * radius;
         // The candidates of a row within the radius (candidate_scan.hpp, vectorised in 2D); the index
         // bound `below` is UINT32_MAX outside the filtered search.
-        const ScanTarget<D> target{xi, r2, accept.self(i), std::min(accept.limit(i), below)};
+        const ScanTarget<D> target{xi, r2, accept.self(i), std::min(accept.limit(i), below),
+                                   static_cast<std::uint32_t>(grid.sorted.size())};
         const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
           if (filtered && filter.slot_prefix[s1] == filter.slot_prefix[s0]) return;
           room_for(s1 - s0 + kScanSlack);
