@@ -218,6 +218,13 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
   const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
   const std::size_t n = src.size();
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
+  // The lists are joined here: the block buffers of an earlier tile-ordered build
+  // (half_lists_in_tile_order) are released, not held beside the joined copy (with block steps
+  // they raised the 1M ring's peak RSS by 10%).
+  for (NeighbourLists* nl : {&out.near, &out.far}) {
+    std::vector<std::vector<std::uint32_t>>().swap(nl->block_index);
+    std::vector<std::vector<std::uint32_t>>().swap(nl->block_count);
+  }
   struct Block {
     // The block's near lists, one after the other (not zero-filled: every entry is written before
     // it is read), their counts, and the same for the far lists.
