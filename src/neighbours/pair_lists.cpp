@@ -13,7 +13,7 @@ namespace sphdisk {
 
 namespace {
 
-constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_from and filter_lists
+constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_from
 
 template <int D>
 constexpr int colours(TileWrites writes) {
@@ -359,19 +359,20 @@ void build_half_lists_from_gather(const NeighbourLists& gather, const std::vecto
 namespace {
 
 // The entries of `src` with keep(k, j) (k: the list's index), each list in its order; all src.size() lists.
-// Kept per block of particles first (the count of a list is known only once it is filtered), then
-// joined.
+// Kept per block of lists first (the count of a list is known only once it is filtered), in the
+// blocks NeighbourLists::join reads, then joined.
 template <class Keep>
 void filter_lists(const NeighbourLists& src, NeighbourLists& out, Keep&& keep) {
+  constexpr std::size_t kListBlock = NeighbourLists::kBlock;
   const std::size_t n = src.size();
-  const std::size_t nblocks = (n + kBlock - 1) / kBlock;
+  const std::size_t nblocks = (n + kListBlock - 1) / kListBlock;
   out.block_index.resize(nblocks);
   out.block_count.resize(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     std::vector<std::uint32_t> idx, cnt;  // local headers, the block's memory reused (neighbour_lists.cpp)
     idx.swap(out.block_index[b]);
     cnt.swap(out.block_count[b]);
-    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    const std::size_t i0 = b * kListBlock, i1 = std::min(n, i0 + kListBlock);
     idx.resize(src.offsets[i1] - src.offsets[i0]);
     cnt.resize(i1 - i0);
     std::size_t end = 0;
@@ -387,18 +388,8 @@ void filter_lists(const NeighbourLists& src, NeighbourLists& out, Keep&& keep) {
     out.block_index[b].swap(idx);
     out.block_count[b].swap(cnt);
   }, "neighbour_search");
-  out.offsets.resize(n + 1);
-  out.offsets[0] = 0;
-  std::vector<std::size_t> block_start(nblocks + 1, 0);
-  for (std::size_t b = 0; b < nblocks; ++b) {
-    const std::size_t i0 = b * kBlock;
-    for (std::size_t k = 0; k < out.block_count[b].size(); ++k) out.offsets[i0 + k + 1] = out.offsets[i0 + k] + out.block_count[b][k];
-    block_start[b + 1] = out.offsets[std::min(n, i0 + kBlock)];
-  }
-  resize_snug(out.index, out.offsets[n]);
-  par::for_each(nblocks, [&](std::size_t b) {
-    std::copy(out.block_index[b].begin(), out.block_index[b].end(), out.index.begin() + static_cast<std::ptrdiff_t>(block_start[b]));
-  });
+  out.offsets_from_blocks(n);
+  out.join();
 }
 
 }  // namespace
