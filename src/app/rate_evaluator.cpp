@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/cell_grid.hpp"
+#include "neighbours/involved_particles.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
 #include "physics/density.hpp"
@@ -22,6 +23,16 @@ namespace {
 // Candidates are searched to kSkin x 2 h_i, so h may grow by kSkin while it is solved for before
 // the particle's search must be repeated.
 constexpr double kSkin = 1.05;
+
+// Halos (ghosts of other ranks, or the involved particles of a partial evaluation) reach this much
+// beyond the first search radius, so that h may grow by it before the solve must be repeated.
+constexpr double kHaloMargin = 1.25;
+
+// Partial evaluations with at most this fraction of the particles active work on the involved
+// particles (evaluate_involved), unless these are more than kInvolvedMost of all: then copying
+// them would cost more than it spares. Either way the bits are the same.
+constexpr double kInvolvedActive = 0.25;
+constexpr double kInvolvedMost = 0.5;
 
 // Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (8^3 in 3D), ~1,000
 // particles: a colour's tiles lie apart, so what a tile reads of its neighbours is reused only
@@ -88,8 +99,7 @@ RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys,
 // the pairs that only their own support covers.
 template <int D>
 template <class K>
-void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
-  constexpr double kHaloMargin = 1.25;
+bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   const std::size_t owned = p.size();
   const bool reusable = this->reusable(active, owned);
   // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
@@ -99,14 +109,14 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
   });
   smoothing_length_solves_ += active;
-  if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return;
+  if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return true;
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
   if (reusable) kept_.resize(owned);
   // One process, every particle active, lists not kept for reuse (the common case): the gather
   // lists are made in the pair loops' tile order, from which the half lists are written where the
   // loops read them, with no copy (pair_lists.hpp). Else list i is particle i's, as appending
   // (inactive particles) and reuse need.
-  const bool tile_ordered = !domain_ && active == owned && !reusable && storage_ == PairStorage::Stored;
+  const bool tile_ordered = !domain_ && active == owned && !reusable && storage_ == PairStorage::Stored && !whole_.set;
   double cell_size;
   // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
   // reach over more cells; any cell size gives the same lists.
@@ -121,6 +131,9 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       reach_[i] = 2.0 * p.h[i] * kHaloMargin;
     }
     h_start_ = p.h;
+  } else if (whole_.set) {  // the involved particles of a partial evaluation: the whole set's lattice
+    cell_size = whole_.lattice.cell_size;
+    widest_support_ = whole_.widest_support;
   } else {
     const auto [median, wide] = quantiles<2>(p.h, {0.5, kTileQuantile});
     cell_size = kSkin * median;
@@ -136,6 +149,10 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       }
       ScopedPhase t(timers_, "cell_build");
       build_cell_grid(lattice, p.pos, p.id, grid_);
+    } else if (whole_.set) {
+      ScopedPhase t(timers_, "cell_build");
+      lattice = whole_.lattice;
+      build_cell_grid(lattice, p.pos, p.id, grid_);
     } else {
       ScopedPhase t(timers_, "cell_build");
       build_cell_grid(p.pos, p.id, cell_size, grid_);
@@ -147,7 +164,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     search_radius_.resize(active);
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
-    const double uniform_mass = uniform_mass_of(p);  // ghosts included
+    const double uniform_mass = whole_.set ? whole_.uniform_mass : uniform_mass_of(p);  // ghosts included
     solve_sums_.assign(active, 0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {
@@ -158,6 +175,10 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
         const double wider = 2.0 * std::max(kSkin, skin) * r.h;
         if (domain_ && wider > need_[i]) {  // beyond the ghosts: stop here, search again with more
           halo_short_[i] = wider;
+          return searched;
+        }
+        if (whole_.set && wider > whole_.complete_radius[i]) {  // beyond the involved particles: the same
+          search_short_.store(true, std::memory_order_relaxed);
           return searched;
         }
         return wider;
@@ -199,11 +220,12 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     for (std::size_t i = 0; i < owned; ++i)
       if (halo_short_[i] == 0) p.h[i] = h_start_[i];
   }
+  if (search_short_.load(std::memory_order_relaxed)) return false;
   if (domain_) refresh_ghosts(p, GhostStage::SmoothingLength);
   ScopedPhase t(timers_, "neighbour_search");
   if (storage_ == PairStorage::Rescan) {
     scan_order(active);
-    return;
+    return true;
   }
   if (active < p.size()) {
     // Ghosts' (and inactive particles') gather lists with their own h: the pairs that only their own
@@ -220,6 +242,7 @@ void RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   }
   build_half_lists_from_gather(candidates_, p.pos, reusable ? listed_h_ : p.h, pairs_lists_, tile_ordered);
   lists_built(p, reusable);
+  return true;
 }
 
 // Solves h_i on the kept gather lists (each particle's candidates within kept_[i] at the build)
@@ -321,13 +344,87 @@ bool RateEvaluator<D>::rebuild_due() const {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
   active = std::min(active, p.size());
+  if (evaluate_involved(p, active)) return;
+  evaluate_particles(p, active);
+}
+
+// The choices evaluate_particles makes from all particles (cell size and lattice, the tiles' span,
+// the common mass) are made here first, and the evaluation on the involved particles takes them
+// (whole_): every cell lies where it lies in the whole set's grid, so candidates, lists and tiles
+// come in the same order and every sum takes the same terms in the same order. The involved set
+// holds every particle within complete_radius[i] of each active particle i (involved_particles.hpp):
+// with adaptive h that covers its first search (2 kSkin h from its predicted h) with kHaloMargin
+// to spare; a solve that wants a wider search sets search_short_, and the evaluation is repeated
+// with twice the radii (as a rank's solve is repeated with more ghosts).
+template <int D>
+bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
+  const std::size_t n = p.size();
+  if (!involved_enabled_ || domain_ || storage_ != PairStorage::Stored || active == 0 ||
+      static_cast<double>(active) > kInvolvedActive * static_cast<double>(n))
+    return false;
+  double cell_size;
+  std::vector<double>& radius = whole_.complete_radius;
+  radius.resize(active);
+  {
+    ScopedPhase t(timers_, "neighbour_search");
+    if (smoothing_ == Smoothing::Adaptive) {
+      predicted_h_ = p.h;  // as adaptive_lists predicts them, before it takes the quantiles
+      par::for_each(active, [&](std::size_t i) { predicted_h_[i] = predicted_smoothing_length(p.h[i], p.h_prev[i], p.h_prev2[i]); });
+      const auto [median, wide] = quantiles<2>(predicted_h_, {0.5, kTileQuantile});
+      cell_size = kSkin * median;
+      whole_.widest_support = 2.0 * wide;
+      par::for_each(active, [&](std::size_t i) { radius[i] = kHaloMargin * 2.0 * kSkin * predicted_h_[i]; });
+    } else {
+      const double support = 2.0 * h_;  // no pair reaches further
+      std::fill(radius.begin(), radius.end(), support);
+      cell_size = 0.5 * support;
+      whole_.widest_support = support;
+    }
+    Vec<D> lo, hi;
+    bounding_box(p.pos, lo, hi);
+    whole_.lattice = make_lattice(lo, hi, n, cell_size);
+    whole_.uniform_mass = uniform_mass_of(p);
+  }
+  for (;;) {
+    {
+      ScopedPhase t(timers_, "neighbour_search");
+      involved_particles(p.pos, p.h, active, radius, members_);
+      if (static_cast<double>(members_.size()) > kInvolvedMost * static_cast<double>(n)) return false;
+      involved_.resize(members_.size());
+      involved_.for_each_field_with(p, [&](const FieldInfo&, auto& to, const auto& from) {
+        par::for_each(members_.size(), [&](std::size_t k) { to[k] = from[members_[k]]; });
+      });
+    }
+    whole_.set = true;
+    search_short_ = false;
+    const bool done = evaluate_particles(involved_, active);
+    whole_.set = false;
+    if (done) break;
+    ++involved_widenings_;
+    for (double& r : radius) r *= 2.0;
+  }
+  ScopedPhase t(timers_, "neighbour_search");
+  // The active particles are the first ones in both: their new values go back.
+  p.for_each_field_with(involved_, [&](const FieldInfo&, auto& to, const auto& from) {
+    par::for_each(active, [&](std::size_t i) { to[i] = from[i]; });
+  });
+  ++involved_evaluations_;
+  return true;
+}
+
+template <int D>
+bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
   loop_lists_ = &pairs_lists_;
   const bool rescan = storage_ == PairStorage::Rescan;
   std::size_t pair_count = 0;
+  bool complete = true;
   with_kernel(kernel_, [&](auto k) {
     using K = decltype(k);
     if (smoothing_ == Smoothing::Adaptive) {
-      adaptive_lists<K>(p, active);
+      if (!adaptive_lists<K>(p, active)) {
+        complete = false;
+        return;
+      }
       if (rescan) {
         // No per-particle kernels kept either: each is made from h where needed (the same values).
         const auto slope = [&p](std::size_t i) { return slope_of(KernelAt<K, D>(p.h[i])); };
@@ -375,7 +472,8 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
              lists_still_valid(p, [listed](std::size_t) { return listed; }, [support](std::size_t) { return support; });
       if (!keep) {
         ScopedPhase t(timers_, "cell_build");
-        build_cell_grid(p.pos, p.id, 0.5 * listed, grid_);
+        if (whole_.set) build_cell_grid(whole_.lattice, p.pos, p.id, grid_);  // involved particles: the whole set's lattice
+        else build_cell_grid(p.pos, p.id, 0.5 * listed, grid_);
       }
     }
     if (!keep) {
@@ -405,11 +503,13 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
       pair_count = lists.total();
     }
   });
+  if (!complete) return false;
   ++evaluations_;
   ++since_build_;
   if (domain_) domain_->remove_ghosts(p);
   pairs_ += pair_count;
   updates_ += active;
+  return true;
 }
 
 template <int D>
@@ -453,7 +553,9 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
   scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
+  scratch += predicted_h_.capacity() * sizeof(double);
   return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes()},
+          {"involved_particles", involved_.bytes() + members_.capacity() * sizeof(std::uint32_t)},
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float)},

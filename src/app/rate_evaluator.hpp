@@ -4,6 +4,7 @@
 // under its phase timer; this is the function the integrators call.
 // Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
 // the neighbour lists.
+#include <atomic>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -51,7 +52,10 @@ class RateEvaluator {
   void evaluate(Particles<D>& p) { evaluate(p, p.size()); }
   // Block timesteps: only the first `active` particles get new h, rho, stress, acc and du_dt; the
   // others keep their values and count as neighbours with them (as ghosts do). Every pair with an
-  // active particle is still evaluated (r < 2 max(h_i, h_j)).
+  // active particle is still evaluated (r < 2 max(h_i, h_j)). With few active particles (one
+  // process, stored lists) the evaluation works on a copy of the particles it involves
+  // (neighbours/involved_particles.hpp) on the whole set's cell lattice and tiles: the same bits
+  // as over all particles, at a cost that follows the active ones.
   void evaluate(Particles<D>& p, std::size_t active);
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
@@ -103,6 +107,13 @@ class RateEvaluator {
   std::size_t pair_interactions() const { return pairs_; }  // pairs evaluated (each once per pair loop), summed over evaluations
   std::size_t particle_updates() const { return updates_; }  // particles given new rates, summed over evaluations
   std::size_t halo_widenings() const { return halo_widenings_; }  // adaptive h solves repeated with more ghosts
+  // Partial evaluations made on the involved particles only, and those repeated with more of them
+  // (an active particle's h solve searched beyond them).
+  std::size_t involved_evaluations() const { return involved_evaluations_; }
+  // Whether partial evaluations may work on the involved particles (default; false: always on all,
+  // which gives the same bits and is what the tests compare with).
+  void set_partial_on_involved(bool yes) { involved_enabled_ = yes; }
+  std::size_t involved_widenings() const { return involved_widenings_; }
   // Adaptive h: particles that solved for h, and the density sums their solves took (one per
   // Newton iterate, a repeated wider search included), summed over evaluations.
   std::size_t smoothing_length_solves() const { return smoothing_length_solves_; }
@@ -112,8 +123,12 @@ class RateEvaluator {
   std::vector<std::pair<std::string, std::size_t>> memory() const;
 
  private:
+  // The evaluation over all of p (false: a search went beyond whole_.complete_radius; nothing done).
+  bool evaluate_particles(Particles<D>& p, std::size_t active);
+  // The evaluation on the particles the active ones involve (false: not worth it, nothing done).
+  bool evaluate_involved(Particles<D>& p, std::size_t active);
   template <class K>
-  void adaptive_lists(Particles<D>& p, std::size_t active);
+  bool adaptive_lists(Particles<D>& p, std::size_t active);
   template <class K>
   bool reuse_adaptive_lists(Particles<D>& p);
   bool lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
@@ -128,7 +143,7 @@ class RateEvaluator {
   // Rescan: the tile order for pairs searched anew, and which grid slots hold writable particles.
   void scan_order(std::size_t writable);
   bool reusable(std::size_t active, std::size_t n) const {
-    return list_skin_ > 0 && !domain_ && active == n && storage_ == PairStorage::Stored;
+    return list_skin_ > 0 && !domain_ && active == n && storage_ == PairStorage::Stored && !whole_.set;
   }
   int tile_cells() const;
 
@@ -173,6 +188,24 @@ class RateEvaluator {
   std::size_t since_build_ = 0;    // evaluations served by the current lists
   std::size_t last_interval_ = 0;  // evaluations served by the previous lists
   double used_ = 0;                // the last test's bound / slack
+  // A partial evaluation on the involved particles (evaluate_involved) takes these choices from the
+  // whole set, so that its cells, neighbour order, tiles and sums are those of an evaluation over
+  // all particles (the lattice is shared as between ranks, cell_grid.hpp).
+  struct WholeSet {
+    bool set = false;
+    Lattice<D> lattice;
+    double widest_support = 0;   // what the tiles span
+    double uniform_mass = 0;     // uniform_mass_of all particles
+    std::vector<double> complete_radius;  // every particle within complete_radius[i] of active particle i is involved
+  };
+  WholeSet whole_;
+  std::atomic<bool> search_short_{false};  // an h solve wanted more than whole_.complete_radius
+  Particles<D> involved_;                  // the involved particles (kept: reused memory)
+  std::vector<std::uint32_t> members_;     // their indices in the whole set, active ones first
+  std::vector<double> predicted_h_;        // the whole set's h, active ones' predicted
+  bool involved_enabled_ = true;
+  std::size_t involved_evaluations_ = 0;
+  std::size_t involved_widenings_ = 0;
 };
 
 }  // namespace sphdisk

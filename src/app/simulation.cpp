@@ -367,6 +367,8 @@ class Runner {
        << ", \"pair_interactions\": " << rates_.pair_interactions()
        << ", \"smoothing_length_solves\": " << rates_.smoothing_length_solves()
        << ", \"smoothing_length_sums\": " << rates_.smoothing_length_sums()
+       << ", \"involved_evaluations\": " << rates_.involved_evaluations()
+       << ", \"involved_widenings\": " << rates_.involved_widenings()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
     os << "}"

@@ -107,6 +107,16 @@ struct Particles {
 #undef SPHDISK_VISIT_FIELD
   }
 
+  // Calls f(info, field, other's same field) for every field in table order (copies between two
+  // sets of particles, e.g. a partial evaluation's involved particles, app/rate_evaluator.cpp).
+  template <class F>
+  void for_each_field_with(const Particles& other, F&& f) {
+#define SPHDISK_VISIT_FIELD_WITH(name_, kind_, ds_, flags_, l_, m_, t_) \
+  f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_, other.name_);
+    SPHDISK_PARTICLE_FIELDS(SPHDISK_VISIT_FIELD_WITH)
+#undef SPHDISK_VISIT_FIELD_WITH
+  }
+
   void resize(std::size_t n) {
     for_each_field([n](const FieldInfo&, auto& v) { resize_snug(v, n); });
   }

@@ -66,13 +66,6 @@ void check_interaction_pairs(const Particles<D>& p, const std::vector<double>& h
       }
 }
 
-PhysicsParams viscous_no_gravity(double nu) {
-  PhysicsParams phys;
-  phys.nu = nu;
-  phys.gm = 0.0;
-  return phys;
-}
-
 // Evaluates the rates with adaptive smoothing, starting every h from h0.
 template <int D>
 void evaluate_adaptive(Particles<D>& p, double h0, double neighbours, PhysicsParams phys,
@@ -105,7 +98,7 @@ void check_solved_smoothing_lengths(double neighbours, double h0, bool unequal =
   if (unequal)
     for (std::size_t i = 0; i < p.size(); ++i) p.mass[i] *= 0.5 + static_cast<double>(i % 7) / 4.0;
   ASSERT_EQ(uniform_mass_of(p) > 0, !unequal);
-  evaluate_adaptive(p, h0, neighbours, viscous_no_gravity(0.0));
+  evaluate_adaptive(p, h0, neighbours, test::viscous_no_gravity(0.0));
   const double eta = eta_for_neighbours<D>(neighbours);
   double worst = 0, h_min = 1e300, h_max = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -155,7 +148,7 @@ TEST(SmoothingLength, EtaTimesSpacingOnALattice) {
   const double dx = 1.0 / n;
   for (double neighbours : {30.0, 50.0, 100.0}) {
     auto p = test::square_lattice(n, dx);
-    evaluate_adaptive(p, 3.0 * dx, neighbours, viscous_no_gravity(0.0));
+    evaluate_adaptive(p, 3.0 * dx, neighbours, test::viscous_no_gravity(0.0));
     const auto inner = test::interior(p, 0.5, 0.25);
     ASSERT_GT(inner.size(), 200u);
     const double expected = eta_for_neighbours<2>(neighbours) * dx;
@@ -168,12 +161,12 @@ TEST(SmoothingLength, EtaTimesSpacingOnALattice) {
 TEST(SmoothingLength, OutliersAndTinySets) {
   auto p = test::random_particles<2>(500, 12, false);
   p.pos[17] = Vec<2>{{40.0, -25.0}};
-  evaluate_adaptive(p, 0.05, 40, viscous_no_gravity(0.01));
+  evaluate_adaptive(p, 0.05, 40, test::viscous_no_gravity(0.01));
   EXPECT_GT(p.h[17], 10.0);
   for (std::size_t i = 0; i < p.size(); ++i) ASSERT_TRUE(std::isfinite(p.acc[i][0]) && std::isfinite(p.h[i]));
 
   auto tiny = test::random_particles<2>(5, 13, false);
-  evaluate_adaptive(tiny, 0.01, 60, viscous_no_gravity(0.01));
+  evaluate_adaptive(tiny, 0.01, 60, test::viscous_no_gravity(0.01));
   for (std::size_t i = 0; i < tiny.size(); ++i) ASSERT_TRUE(std::isfinite(tiny.acc[i][0]) && tiny.h[i] > 0.01);
 }
 
@@ -184,7 +177,7 @@ TEST(SmoothingLength, ConservationAndLinearExactnessWithVariableH) {
   const double A[2][2] = {{0.3, -1.1}, {0.7, 0.2}};
   auto p = test::random_particles<2>(3000, 14, true);
   for (auto& x : p.pos) x += Vec<2>{{2.0, 2.0}};
-  PhysicsParams phys = viscous_no_gravity(0.01);
+  PhysicsParams phys = test::viscous_no_gravity(0.01);
   phys.nu_bulk = 0.003;
   phys.eos = EquationOfState::Isothermal;
   phys.sound_speed = 0.3;
@@ -200,7 +193,7 @@ TEST(SmoothingLength, ConservationAndLinearExactnessWithVariableH) {
     p.vel[i] = Vec<2>{{A[0][0] * x[0] + A[0][1] * x[1] + 5.0, A[1][0] * x[0] + A[1][1] * x[1] - 2.0}};
   }
   PhaseTimers timers;
-  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, test::viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
   rates.evaluate(p);
   double worst = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -247,7 +240,7 @@ TEST(SmoothingLength, SolutionsAreFixedPoints) {
   auto p = test::random_particles<2>(2000, 22, true);
   std::fill(p.h.begin(), p.h.end(), 0.02);
   PhaseTimers timers;
-  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, test::viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
   rates.evaluate(p);
   std::vector<double> solved;
   for (int n = 2; n <= 4; ++n) {
@@ -270,7 +263,7 @@ TEST(SmoothingLength, ExtrapolatedStartsSolveInOneSum) {
   std::fill(p.h.begin(), p.h.end(), 0.02);
   const std::vector<Vec<2>> start = p.pos;
   PhaseTimers timers;
-  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, test::viscous_no_gravity(0.0), timers, Smoothing::Adaptive, 50);
   std::vector<double> sums_per_solve;
   Particles<2> before_last;
   for (int n = 0; n < 7; ++n) {
@@ -287,7 +280,7 @@ TEST(SmoothingLength, ExtrapolatedStartsSolveInOneSum) {
   std::fill(before_last.h_prev.begin(), before_last.h_prev.end(), 0.0);  // no history: start from the previous h
   std::fill(before_last.h_prev2.begin(), before_last.h_prev2.end(), 0.0);
   PhaseTimers other_timers;
-  RateEvaluator<2> plain(KernelType::Cubic, 0.02, viscous_no_gravity(0.0), other_timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> plain(KernelType::Cubic, 0.02, test::viscous_no_gravity(0.0), other_timers, Smoothing::Adaptive, 50);
   plain.evaluate(before_last);
   EXPECT_GT(plain.smoothing_length_sums(), p.size() * 3 / 2);
   double worst = 0;
@@ -301,7 +294,7 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
   for (int threads : {1, 2, 3}) {
     par::set_threads(threads);
     auto p = test::random_particles<2>(3000, 15, true);
-    evaluate_adaptive(p, 0.02, 50, viscous_no_gravity(0.01));
+    evaluate_adaptive(p, 0.02, 50, test::viscous_no_gravity(0.01));
     results.push_back(p);
   }
   par::set_threads(0);
@@ -320,7 +313,7 @@ TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {
   auto p = test::random_particles<2>(2000, 5, false);
   for (auto& hi : p.h) hi = 0.02;
   PhaseTimers timers;
-  RateEvaluator<2> rates(KernelType::Cubic, 0.02, viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> rates(KernelType::Cubic, 0.02, test::viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
   rates.evaluate(p);
   std::map<std::string, std::size_t> bytes;
   for (const auto& [part, b] : rates.memory()) bytes[part] = b;

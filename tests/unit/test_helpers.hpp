@@ -10,6 +10,7 @@
 
 #include "core/particles.hpp"
 #include "core/vector_isa.hpp"
+#include "physics/physics_params.hpp"
 
 namespace sphdisk::test {
 
@@ -41,6 +42,14 @@ Particles<D> random_particles(std::size_t n, unsigned seed, bool clustered) {
     p.mass[i] = 1.0 / static_cast<double>(n);
   }
   return p;
+}
+
+// Physical viscosity nu and no point mass: the pair terms alone.
+inline PhysicsParams viscous_no_gravity(double nu) {
+  PhysicsParams phys;
+  phys.nu = nu;
+  phys.gm = 0.0;
+  return phys;
 }
 
 // Indices of particles at least `margin` inside the lattice edge.
