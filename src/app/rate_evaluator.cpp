@@ -396,7 +396,6 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
       });
     }
     whole_.set = true;
-    search_short_ = false;
     const bool done = evaluate_particles(involved_, active);
     whole_.set = false;
     if (done) break;
@@ -414,6 +413,10 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
 
 template <int D>
 bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
+  // Set by a search beyond the involved particles (whole_.set only); cleared here, not where the
+  // involved evaluation starts, so that one given up on (too many involved particles) leaves no
+  // stale flag for the evaluation over all particles that follows.
+  search_short_ = false;
   loop_lists_ = &pairs_lists_;
   const bool rescan = storage_ == PairStorage::Rescan;
   std::size_t pair_count = 0;

@@ -80,10 +80,14 @@ void expect_same_bits(Particles<D> a, const Particles<D>& b) {
 // on the involved particles and over all of them: every field of every particle the same bits.
 // shrink: the active particles' h scaled by it (with no history) before the partial evaluations,
 // so that their solves must search beyond the involved particles first (widenings).
+// scattered: the active particles spread over the whole set (else the ones nearest a corner), so
+// that widened searches involve more than half of all and the evaluation is made over all after
+// all. involved: the evaluations expected on the involved particles.
 template <int D>
-void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours, std::size_t active, double shrink = 1.0) {
+void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours, std::size_t active, double shrink = 1.0,
+                               bool scattered = false, std::size_t involved = 2) {
   auto p = test::random_particles<D>(8000, 11, false);
-  {  // the active particles (the first ones) nearest a corner, as a time bin is a region of a disc
+  if (!scattered) {  // the active particles (the first ones) nearest a corner, as a time bin is a region of a disc
     std::vector<std::uint32_t> order(p.size());
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return norm2(p.pos[x]) < norm2(p.pos[y]); });
@@ -110,7 +114,7 @@ void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours
     for (auto* q : {&on_involved, &on_all})
       for (std::size_t i = 0; i < q->size(); ++i) q->pos[i] += q->vel[i] * 1e-3;
   }
-  EXPECT_EQ(a.involved_evaluations(), 2u) << "the partial evaluations did not take the involved particles";
+  EXPECT_EQ(a.involved_evaluations(), involved) << "the partial evaluations did not take the involved particles as expected";
   EXPECT_EQ(b.involved_evaluations(), 0u);
   if (shrink != 1.0) EXPECT_GT(a.involved_widenings(), 0u);
   EXPECT_EQ(a.particle_updates(), b.particle_updates());
@@ -130,6 +134,10 @@ TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllConstantH) {
 }
 TEST(PartialEvaluation, SolvesBeyondTheInvolvedParticlesAreRepeatedWithMore) {
   check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 100, 0.2);
+}
+// Widened until the involved particles are too many, the evaluations are made over all particles.
+TEST(PartialEvaluation, WideningsBeyondHalfTheParticlesFallBackToAll) {
+  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 60, 0.01, true, 0);
 }
 
 }  // namespace
