@@ -29,9 +29,13 @@ constexpr double kSkin = 1.05;
 constexpr double kHaloMargin = 1.25;
 
 // Partial evaluations with at most this fraction of the particles active work on the involved
-// particles (evaluate_involved), unless these are more than kInvolvedMost of all: then copying
-// them would cost more than it spares. Either way the bits are the same.
-constexpr double kInvolvedActive = 0.25;
+// particles (evaluate_involved), unless these are more than kInvolvedMost of all. Either way the
+// bits are the same. Measured on the 100k ring (2 threads, 40 block cycles, interleaved runs,
+// docs/performance.md): evaluations with under 1% active took 3.3-3.8 ms instead of 7.2-7.8 ms;
+// with 1-25% active the involved particles are 30-70% of all, and copying them, searching them
+// and the occasional repeat cost more than the work over all particles they spare (16-26 ms
+// against 15-23 ms), hence the 2%.
+constexpr double kInvolvedActive = 0.02;
 constexpr double kInvolvedMost = 0.5;
 
 // Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (8^3 in 3D), ~1,000

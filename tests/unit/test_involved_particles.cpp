@@ -123,14 +123,16 @@ void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours
 }
 
 TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllAdaptive2D) {
-  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 300);
-  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 1200);
+  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 40);
+  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 150);
+  // More active than kInvolvedActive (2%): over all particles.
+  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 1200, 1.0, false, 0);
 }
 TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllAdaptive3D) {
-  check_partial_evaluations<3>(Smoothing::Adaptive, 0.08, 57, 200);
+  check_partial_evaluations<3>(Smoothing::Adaptive, 0.08, 57, 150);
 }
 TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllConstantH) {
-  check_partial_evaluations<2>(Smoothing::Constant, 0.015, 50, 400);
+  check_partial_evaluations<2>(Smoothing::Constant, 0.015, 50, 150);
 }
 TEST(PartialEvaluation, SolvesBeyondTheInvolvedParticlesAreRepeatedWithMore) {
   check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 100, 0.2);
