@@ -64,6 +64,17 @@ std::array<double, N> quantiles(const std::vector<double>& v, const std::array<d
   return q;
 }
 
+// One process, adaptive h: the cell size (from the median h: the denser particles scan few cells
+// and the rest reach over more; any cell size gives the same lists) and the support the tiles span
+// (all but the widest 1%), from every particle's h. skin: the gather lists' radius / support.
+struct CellsAndTiles {
+  double cell_size, widest_support;
+};
+CellsAndTiles cells_and_tiles(const std::vector<double>& h, double skin) {
+  const auto [median, wide] = quantiles<2>(h, {0.5, kTileQuantile});
+  return {kSkin * median, 2.0 * skin * wide};
+}
+
 std::size_t total_of(const std::vector<std::uint32_t>& counts) {
   return par::sum<std::size_t>(counts.size(), [&](std::size_t i) { return static_cast<std::size_t>(counts[i]); });
 }
@@ -139,9 +150,9 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     cell_size = whole_.lattice.cell_size;
     widest_support_ = whole_.widest_support;
   } else {
-    const auto [median, wide] = quantiles<2>(p.h, {0.5, kTileQuantile});
-    cell_size = kSkin * median;
-    widest_support_ = 2.0 * skin * wide;
+    const CellsAndTiles c = cells_and_tiles(p.h, skin);
+    cell_size = c.cell_size;
+    widest_support_ = c.widest_support;
   }
   for (;;) {
     Lattice<D> lattice;
@@ -374,9 +385,9 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
     if (smoothing_ == Smoothing::Adaptive) {
       predicted_h_ = p.h;  // as adaptive_lists predicts them, before it takes the quantiles
       par::for_each(active, [&](std::size_t i) { predicted_h_[i] = predicted_smoothing_length(p.h[i], p.h_prev[i], p.h_prev2[i]); });
-      const auto [median, wide] = quantiles<2>(predicted_h_, {0.5, kTileQuantile});
-      cell_size = kSkin * median;
-      whole_.widest_support = 2.0 * wide;
+      const CellsAndTiles c = cells_and_tiles(predicted_h_, 1.0);  // partial evaluations keep no lists for reuse
+      cell_size = c.cell_size;
+      whole_.widest_support = c.widest_support;
       par::for_each(active, [&](std::size_t i) { radius[i] = kHaloMargin * 2.0 * kSkin * predicted_h_[i]; });
     } else {
       const double support = 2.0 * h_;  // no pair reaches further

@@ -110,10 +110,10 @@ class RateEvaluator {
   // Partial evaluations made on the involved particles only, and those repeated with more of them
   // (an active particle's h solve searched beyond them).
   std::size_t involved_evaluations() const { return involved_evaluations_; }
+  std::size_t involved_widenings() const { return involved_widenings_; }
   // Whether partial evaluations may work on the involved particles (default; false: always on all,
   // which gives the same bits and is what the tests compare with).
   void set_partial_on_involved(bool yes) { involved_enabled_ = yes; }
-  std::size_t involved_widenings() const { return involved_widenings_; }
   // Adaptive h: particles that solved for h, and the density sums their solves took (one per
   // Newton iterate, a repeated wider search included), summed over evaluations.
   std::size_t smoothing_length_solves() const { return smoothing_length_solves_; }
