@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "neighbours/cell_grid.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -118,16 +119,12 @@ void involved_particles(const std::vector<Vec<D>>& pos, const std::vector<double
   {
     std::vector<double> sorted(radius.begin(), radius.begin() + static_cast<std::ptrdiff_t>(active));
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(active / 2), sorted.end());
-    g.cell = sorted[active / 2];
+    // make_lattice grows the cells until there are at most max(4 x its count, 1024): here
+    // max(8 x active, 16384).
+    const Lattice<D> lattice = make_lattice(g.lo, hi, std::max<std::size_t>(2 * active, 4096), sorted[active / 2]);
+    g.cell = lattice.cell_size;
+    for (std::size_t k = 0; k < D; ++k) g.dims[k] = static_cast<std::size_t>(lattice.dims[k]);
   }
-  const double max_cells = std::max(8.0 * static_cast<double>(active), 16384.0);
-  for (;;) {
-    double cells = 1;
-    for (int k = 0; k < D; ++k) cells *= std::floor((hi[k] - g.lo[k]) / g.cell) + 1.0;
-    if (cells <= max_cells) break;
-    g.cell *= 1.25;
-  }
-  for (int k = 0; k < D; ++k) g.dims[static_cast<std::size_t>(k)] = static_cast<std::size_t>(std::floor((hi[k] - g.lo[k]) / g.cell)) + 1;
   g.inv_cell = 1.0 / g.cell;
   // reached: the cells within some active particle's radius (a difference table of the boxes, then
   // summed); count: the active particles per cell as a summed-volume table.
