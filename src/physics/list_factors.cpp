@@ -52,10 +52,16 @@ template <class K>
     _mm512_storeu_pd(inv_h + q, inv_hj);
     _mm512_storeu_pd(dw_norm + q, dw_normj);
   }
+  // Whole vectors here too (the lanes past the list's end repeat its first partner, avx512::round8),
+  // into scratch: a scalar remainder loop for the last n % 8 partners took a quarter of this
+  // function's time, waiting on its division. The list's own n factors are then copied out.
+  thread_local std::vector<float> factor_buffer;
+  const std::size_t whole = (n + 7) & ~std::size_t{7};
+  float* F = scratch_for(factor_buffer, whole);
   const KernelSlope si = slopes[i];
-  float* F = factors.data();
-  for (std::size_t q = 0; q < n; ++q)
+  for (std::size_t q = 0; q < whole; ++q)
     F[q] = static_cast<float>(pair_average_factor<K>(si, KernelSlope{inv_h[q], dw_norm[q]}, std::sqrt(r2[q])));
+  std::copy_n(F, n, factors.data());
 }
 
 // One global h: eight partners' positions per round, squared distances formed as norm2 does, then
