@@ -10,6 +10,7 @@
 #include "neighbours/involved_particles.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
+#include "parallel/nth_values.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/list_factors.hpp"
@@ -48,20 +49,12 @@ template <int D>
 constexpr int kMinTileCells = D == 2 ? 16 : 8;
 constexpr double kTileQuantile = 0.99;
 
-// The k-th smallest (from 0) of v for k = fraction * size, for each of the increasing fractions:
-// one copy of v, and each selection works on what lies above the previous one.
+// The k-th smallest (from 0) of v for k = fraction * size, for each of the fractions (< 1).
 template <std::size_t N>
 std::array<double, N> quantiles(const std::vector<double>& v, const std::array<double, N>& fractions) {
-  std::vector<double> sorted(v);  // not kept: it would add 8 bytes per particle for the whole run
-  std::array<double, N> q{};
-  auto from = sorted.begin();
-  for (std::size_t f = 0; f < N; ++f) {
-    const auto k = sorted.begin() + static_cast<std::ptrdiff_t>(fractions[f] * static_cast<double>(sorted.size()));
-    std::nth_element(from, k, sorted.end());
-    q[f] = *k;
-    from = k;
-  }
-  return q;
+  std::array<std::size_t, N> ranks{};
+  for (std::size_t f = 0; f < N; ++f) ranks[f] = static_cast<std::size_t>(fractions[f] * static_cast<double>(v.size()));
+  return par::nth_values(v, ranks);
 }
 
 // One process, adaptive h: the cell size (from the median h: the denser particles scan few cells

@@ -429,7 +429,8 @@ RunSummary Runner::advance() {
       // Only the order is kept: the grid is freed before the fields are copied (the peak memory of
       // a run without stored lists lies here).
       const std::vector<std::uint32_t> order = std::move(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
-      p_.gather(order);
+      // Field by field in parallel (Particles::gather is serial; the other threads would wait).
+      p_.for_each_field([&order](const FieldInfo&, auto& v) { par::permute_prefix(v, order, "reorder"); });
     }
     const std::size_t updates_before = rates_.particle_updates();
     const std::size_t n_before = distributed() ? global_count() : p_.size();

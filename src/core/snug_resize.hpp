@@ -8,8 +8,8 @@
 
 namespace sphdisk {
 
-template <class T>
-void resize_snug(std::vector<T>& v, std::size_t n) {
+template <class T, class A>
+void resize_snug(std::vector<T, A>& v, std::size_t n) {
   if (n > v.capacity()) v.reserve(n + n / 16);
   v.resize(n);
 }
@@ -17,8 +17,8 @@ void resize_snug(std::vector<T>& v, std::size_t n) {
 // A per-thread scratch buffer of at least n entries for one list's values: it only ever grows, so
 // that the many lists of an evaluation (sizes varying by tens around their mean) neither zero-fill
 // the entries a resize adds nor pay for a size update. The values beyond n are stale.
-template <class T>
-T* scratch_for(std::vector<T>& v, std::size_t n) {
+template <class T, class A>
+T* scratch_for(std::vector<T, A>& v, std::size_t n) {
   if (v.size() < n) v.resize(n + n / 4);
   return v.data();
 }

@@ -140,13 +140,15 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   // The number of particles whose step ends at `tick`: a prefix (see the top of this file; checked,
-  // since a particle left out would silently miss its kick; a count over two arrays is cheap).
+  // since a particle left out would silently miss its kick; a parallel count over two arrays).
   std::size_t active_prefix(std::uint64_t tick) const {
     const std::size_t n = start_.size();
     std::size_t active = 0;
     while (active < n && start_[active] + length_[active] == tick) ++active;
-    for (std::size_t i = active; i < n; ++i)
-      if (start_[i] + length_[i] == tick) throw std::logic_error("block timesteps: the active particles are not a prefix");
+    const std::size_t strays = par::sum<std::size_t>(n - active, [&](std::size_t k) {
+      return std::size_t{start_[active + k] + length_[active + k] == tick};
+    });
+    if (strays > 0) throw std::logic_error("block timesteps: the active particles are not a prefix");
     return active;
   }
 

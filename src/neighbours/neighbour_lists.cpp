@@ -74,13 +74,21 @@ struct CandidateFilter {
   void count_per_cell(const CellGrid<D>& grid) {
     if constexpr (D == 2) {
       const std::size_t nx = static_cast<std::size_t>(grid.dims[0]), ny = static_cast<std::size_t>(grid.dims[1]), w = nx + 1;
-      cell_sum.assign(w * (ny + 1), 0);
-      for (std::size_t y = 0; y < ny; ++y)
+      cell_sum.resize(w * (ny + 1));
+      // Row by row the sums along x, then column by column along y (each pass in parallel; integer
+      // sums, so the table of the serial recurrence).
+      std::fill_n(cell_sum.begin(), w, 0u);
+      par::for_each(ny, [&](std::size_t y) {
+        std::uint32_t* row = cell_sum.data() + (y + 1) * w;
+        row[0] = 0;
         for (std::size_t x = 0; x < nx; ++x) {
           const std::size_t c = y * nx + x;  // CellGrid::linear
-          const std::uint32_t here = slot_prefix[grid.offsets[c + 1]] - slot_prefix[grid.offsets[c]];
-          cell_sum[(y + 1) * w + x + 1] = here + cell_sum[y * w + x + 1] + cell_sum[(y + 1) * w + x] - cell_sum[y * w + x];
+          row[x + 1] = row[x] + (slot_prefix[grid.offsets[c + 1]] - slot_prefix[grid.offsets[c]]);
         }
+      }, {}, 16);
+      par::for_each(w, [&](std::size_t x) {
+        for (std::size_t y = 1; y <= ny; ++y) cell_sum[y * w + x] += cell_sum[(y - 1) * w + x];
+      }, {}, 64);
     }
   }
 
@@ -316,16 +324,22 @@ void append_neighbour_lists(const CellGrid<D>& grid, const std::vector<Vec<D>>& 
   CandidateFilter filter;
   if (candidates_below < pos.size()) {
     filter.below = static_cast<std::uint32_t>(candidates_below);
-    filter.slot_prefix.resize(grid.sorted.size() + 1, 0);
-    for (std::size_t s = 0; s < grid.sorted.size(); ++s)
-      filter.slot_prefix[s + 1] = filter.slot_prefix[s] + (grid.sorted[s] < candidates_below ? 1u : 0u);
+    par::prefix_offsets(grid.sorted.size(), [&](std::size_t s) { return std::size_t{grid.sorted[s] < candidates_below}; },
+                        filter.slot_prefix);
     filter.count_per_cell(grid);
     filter.bound(pos);
   }
-  build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more, filter);
-  const std::size_t base = nl.index.size();
-  nl.index.insert(nl.index.end(), more.index.begin(), more.index.end());
-  for (std::size_t k = 1; k < more.offsets.size(); ++k) nl.offsets.push_back(base + more.offsets[k]);
+  // Left in the blocks, from which each block's lists are copied behind nl's in parallel.
+  build_lists(grid, pos, first, pos.size(), [&radius](std::size_t i) { return radius[i]; }, KeepAll{}, more, filter,
+              AllOthers{}, false);
+  const std::size_t base = nl.total(), listed = nl.size(), added = more.size();
+  resize_snug(nl.index, base + more.total());
+  nl.offsets.resize(listed + added + 1);
+  par::for_each((added + NeighbourLists::kBlock - 1) / NeighbourLists::kBlock, [&](std::size_t b) {
+    const std::size_t i0 = b * NeighbourLists::kBlock, i1 = std::min(added, i0 + NeighbourLists::kBlock);
+    std::copy_n(more.block_index[b].data(), more.offsets[i1] - more.offsets[i0], nl.index.data() + base + more.offsets[i0]);
+    for (std::size_t i = i0; i < i1; ++i) nl.offsets[listed + i + 1] = base + more.offsets[i + 1];
+  }, {}, 1);
   nl.block_index.swap(more.block_index);
   nl.block_count.swap(more.block_count);
 }

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "core/overwrite_vector.hpp"
 #include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
 
@@ -17,7 +18,7 @@ namespace sphdisk {
 struct NeighbourLists {
   static constexpr std::size_t kBlock = 512;  // particles per work unit of the builders
   std::vector<std::size_t> offsets;    // size n + 1
-  std::vector<std::uint32_t> index;    // the lists, once joined
+  OverwriteVector<std::uint32_t> index;  // the lists, once joined
 
   std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }

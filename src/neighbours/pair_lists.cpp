@@ -255,8 +255,8 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
 
   // Join in tile order (pair_lists.hpp): where each particle's lists start in its block, the
   // offsets in tile order serially, then every list copied to its place in parallel.
-  std::vector<std::uint32_t> near_at(n), far_at(n);  // first entry of i's lists in its block
-  for (std::size_t b = 0; b < nblocks; ++b) {
+  OverwriteVector<std::uint32_t> near_at(n), far_at(n);  // first entry of i's lists in its block
+  par::for_each(nblocks, [&](std::size_t b) {
     const Block& B = blocks[b];
     std::uint32_t near_end = 0, far_end = 0;
     for (std::size_t k = 0; k < B.near_count.size(); ++k) {
@@ -265,18 +265,18 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
       near_end += B.near_count[k];
       far_end += B.far_count[k];
     }
-  }
-  for (NeighbourLists* nl : {&out.near, &out.far}) {
-    nl->offsets.resize(n + 1);
-    nl->offsets[0] = 0;
-    nl->joined = true;
-  }
-  for (std::size_t s = 0; s < n; ++s) {
+  }, "neighbour_search", 1);
+  for (NeighbourLists* nl : {&out.near, &out.far}) nl->joined = true;
+  const auto near_count = [&](std::size_t s) {
     const std::uint32_t i = out.order[s];
-    const Block& B = blocks[i / kBlock];
-    out.near.offsets[s + 1] = out.near.offsets[s] + B.near_count[i % kBlock];
-    out.far.offsets[s + 1] = out.far.offsets[s] + B.far_count[i % kBlock];
-  }
+    return static_cast<std::size_t>(blocks[i / kBlock].near_count[i % kBlock]);
+  };
+  const auto far_count = [&](std::size_t s) {
+    const std::uint32_t i = out.order[s];
+    return static_cast<std::size_t>(blocks[i / kBlock].far_count[i % kBlock]);
+  };
+  par::prefix_offsets(n, near_count, out.near.offsets, "neighbour_search");
+  par::prefix_offsets(n, far_count, out.far.offsets, "neighbour_search");
   resize_snug(out.near.index, out.near.offsets[n]);
   resize_snug(out.far.index, out.far.offsets[n]);
   par::for_each(n, [&](std::size_t s) {
@@ -335,7 +335,7 @@ void half_lists_in_tile_order(const NeighbourLists& src, const std::vector<Vec<D
     far.swap(out.far.block_index[b]);
     far_count.swap(out.far.block_count[b]);
   }, "neighbour_search", 1);
-  std::vector<std::uint32_t>().swap(out.near.index);  // no joined copy (of an earlier build's lists)
+  OverwriteVector<std::uint32_t>().swap(out.near.index);  // no joined copy (of an earlier build's lists)
   out.near.offsets_from_blocks(n);
   out.far.offsets_from_blocks(n);
   out.far.join();  // few (the widest supports): read joined (for_each_pair_list)

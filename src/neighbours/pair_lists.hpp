@@ -18,6 +18,7 @@
 // support is much wider than a tile) follow all colours, in tile order. Nothing in the order
 // depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
 // relative order).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -117,8 +118,17 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
   const NeighbourLists& far = pl.far;
   const std::size_t base = near.total();
   if (far.total() == 0) return;
-  for (std::size_t s = 0; s < pl.order.size(); ++s)
-    if (far.count(s) > 0) f(pl.order[s], std::span<const std::uint32_t>(far.begin(s), far.count(s)), base + far.offsets[s]);
+  // Serial (far pairs may share particles). The offsets are cumulative, so a run of lists without
+  // far pairs is skipped at once: few lists have any, and a test of every list was a serial pass
+  // over all particles in each pair loop.
+  constexpr std::size_t kRun = 1024;
+  const std::size_t n = pl.order.size();
+  for (std::size_t s0 = 0; s0 < n; s0 += kRun) {
+    const std::size_t s1 = std::min(n, s0 + kRun);
+    if (far.offsets[s1] == far.offsets[s0]) continue;
+    for (std::size_t s = s0; s < s1; ++s)
+      if (far.count(s) > 0) f(pl.order[s], std::span<const std::uint32_t>(far.begin(s), far.count(s)), base + far.offsets[s]);
+  }
 }
 
 // Calls f(i, j, k) once for every pair (i first in cell order, k its number), in the same order.
@@ -139,7 +149,7 @@ enum class FactorUse { Write, Read };
 // (FactorUse::Write) or read; prepare_factors() sizes the factors before they are written.
 struct StoredPairs {
   const PairLists& lists;
-  std::vector<float>& factors;
+  OverwriteVector<float>& factors;  // physics/pair_factors.hpp
 
   std::size_t writable() const { return lists.writable; }
   void prepare_factors() const { resize_snug(factors, lists.total()); }
@@ -162,7 +172,7 @@ struct StoredPairsFormingFactors {
   Form form;
   mutable bool formed = false;
 
-  StoredPairsFormingFactors(const PairLists& lists, std::vector<float>& factors, Form form_)
+  StoredPairsFormingFactors(const PairLists& lists, OverwriteVector<float>& factors, Form form_)
       : stored{lists, factors}, form(form_) {
     stored.prepare_factors();
   }

@@ -7,6 +7,9 @@
 // blocks in block order, so results are bit-identical for any thread count.
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
+#include <memory>
+#include <type_traits>
 #include <string_view>
 #include <vector>
 
@@ -47,11 +50,41 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 
 // v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
 // of 0 .. order.size() - 1, so a prefix is rearranged in place of a whole copy).
-template <class T, class Index>
-void permute_prefix(std::vector<T>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
-  std::vector<T> moved(order.size());
-  for_each(order.size(), [&](std::size_t k) { moved[k] = v[order[k]]; }, trace_label, 4096);
-  for_each(order.size(), [&](std::size_t k) { v[k] = moved[k]; }, trace_label, 4096);
+// The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
+// this thread alone.
+template <class T, class A, class Index>
+void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
+  static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
+  const auto moved = std::make_unique_for_overwrite<std::byte[]>(order.size() * sizeof(T));
+  std::byte* at = moved.get();
+  for_each(order.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[order[k]], sizeof(T)); }, trace_label, 4096);
+  for_each(order.size(), [&](std::size_t k) { std::memcpy(&v[k], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+}
+
+// offsets[0] = 0, offsets[k + 1] = offsets[k] + count(k) for k < n (offsets gets n + 1 entries): sums
+// of blocks of counts in parallel, the blocks' starts serially, then every offset in parallel.
+// Integer sums, so the same values for any thread count. count(k) may read offsets[k + 1] (a
+// histogram turned into offsets in place): each is read before it is written.
+template <class Offsets, class Count>
+void prefix_offsets(std::size_t n, Count&& count, Offsets& offsets, std::string_view trace_label = {}) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t nblocks = (n + kBlock - 1) / kBlock;
+  offsets.resize(n + 1);
+  std::vector<std::size_t> start(nblocks + 1, 0);
+  for_each(nblocks, [&](std::size_t b) {
+    std::size_t sum = 0;
+    for (std::size_t k = b * kBlock, end = std::min(n, k + kBlock); k < end; ++k) sum += count(k);
+    start[b + 1] = sum;
+  }, trace_label, 1);
+  for (std::size_t b = 0; b < nblocks; ++b) start[b + 1] += start[b];
+  offsets[0] = 0;
+  for_each(nblocks, [&](std::size_t b) {
+    std::size_t at = start[b];
+    for (std::size_t k = b * kBlock, end = std::min(n, k + kBlock); k < end; ++k) {
+      at += count(k);
+      offsets[k + 1] = static_cast<typename Offsets::value_type>(at);
+    }
+  }, trace_label, 1);
 }
 
 // Coloured work items: colour c holds items [colour_start[c], colour_start[c + 1]). Colours run one

@@ -32,7 +32,7 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
 
 // Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
 struct ForceScratch {
-  std::vector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (0 without pressure)
+  OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (0 without pressure)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:

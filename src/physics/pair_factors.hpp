@@ -9,11 +9,12 @@
 // precision the same way, so every loop still sees the same factor of a pair.
 #include <vector>
 
+#include "core/overwrite_vector.hpp"
 #include "physics/kernels.hpp"
 
 namespace sphdisk {
 
-using PairFactors = std::vector<float>;  // indexed like NeighbourLists::index
+using PairFactors = OverwriteVector<float>;  // indexed like NeighbourLists::index (every factor formed before it is read)
 
 // What the pair-averaged kernel gradient needs of a particle's kernel: 1/h and sigma_D / h^(D+1),
 // 16 bytes gathered per pair (a whole KernelAt is 40).

@@ -27,6 +27,7 @@
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/neighbour_lists.hpp"
+#include "parallel/loops.hpp"
 #include "physics/kernel_terms.hpp"
 #include "physics/kernels.hpp"
 
@@ -44,7 +45,8 @@ template <int D>
 double uniform_mass_of(const Particles<D>& p) {
   if (p.size() == 0) return 0.0;
   const double m = p.mass[0];
-  return std::all_of(p.mass.begin(), p.mass.end(), [m](double x) { return x == m; }) && m > 0 ? m : 0.0;
+  const std::size_t others = par::sum<std::size_t>(p.size(), [&](std::size_t i) { return std::size_t{p.mass[i] != m}; });
+  return others == 0 && m > 0 ? m : 0.0;
 }
 
 struct SmoothingLengthResult {

@@ -2,11 +2,16 @@
 // thread count (bit for bit), tasks' results in task order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <vector>
 
+#include "core/overwrite_vector.hpp"
+#include "core/vec.hpp"
 #include "parallel/loops.hpp"
+#include "parallel/nth_values.hpp"
 
 using namespace sphdisk;
 
@@ -33,6 +38,71 @@ TEST(ParallelLayer, PermutePrefixRearrangesThePrefixOnly) {
     ASSERT_EQ(v.size(), n);
     for (std::size_t k = 0; k < m; ++k) ASSERT_EQ(v[k], static_cast<double>(m - 1 - k));
     for (std::size_t i = m; i < n; ++i) ASSERT_EQ(v[i], static_cast<double>(i));
+  }
+  par::set_threads(0);
+}
+
+TEST(ParallelLayer, PermutePrefixMovesRecordsWhole) {
+  // Records of several doubles (as positions and stresses) through the raw buffer.
+  const std::vector<std::uint32_t> order = {2, 0, 1};
+  std::vector<Vec<2>> v = {Vec<2>{{1, 2}}, Vec<2>{{3, 4}}, Vec<2>{{5, 6}}, Vec<2>{{7, 8}}};
+  par::permute_prefix(v, order);
+  EXPECT_EQ(v[0], (Vec<2>{{5, 6}}));
+  EXPECT_EQ(v[1], (Vec<2>{{1, 2}}));
+  EXPECT_EQ(v[2], (Vec<2>{{3, 4}}));
+  EXPECT_EQ(v[3], (Vec<2>{{7, 8}}));
+}
+
+TEST(ParallelLayer, PrefixOffsetsSumTheCounts) {
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4096}, std::size_t{10001}}) {
+    const auto count = [](std::size_t k) { return (k * 7919) % 13; };
+    for (int threads : {1, 3}) {
+      par::set_threads(threads);
+      OverwriteVector<std::size_t> offsets(5, 99);  // stale entries from before are overwritten
+      par::prefix_offsets(n, count, offsets);
+      ASSERT_EQ(offsets.size(), n + 1);
+      std::size_t sum = 0;
+      ASSERT_EQ(offsets[0], 0u);
+      for (std::size_t k = 0; k < n; ++k) {
+        sum += count(k);
+        ASSERT_EQ(offsets[k + 1], sum) << "n " << n << ", k " << k;
+      }
+    }
+  }
+  par::set_threads(0);
+}
+
+// The ranks' values equal std::nth_element's on a copy, for distributions that fill the buckets
+// evenly, crowd them into one (a far outlier), repeat values, or hold one value.
+TEST(ParallelLayer, NthValuesAreThoseOfNthElement) {
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> u(0.5, 2.0);
+  std::lognormal_distribution<double> wide(0.0, 1.0);
+  std::vector<std::vector<double>> cases;
+  cases.push_back({});
+  cases.back().resize(100000);
+  for (double& x : cases.back()) x = u(rng);
+  cases.push_back(std::vector<double>(70001));
+  for (double& x : cases.back()) x = wide(rng);
+  cases.back()[123] = 1e6;  // nearly everything in the first bucket
+  cases.push_back(std::vector<double>(50000));
+  for (double& x : cases.back()) x = std::floor(u(rng) * 4.0);  // four values, many times each
+  cases.push_back(std::vector<double>(1000, 0.25));
+  cases.push_back({3.0});
+  cases.push_back({2.0, 1.0});
+  for (const std::vector<double>& v : cases) {
+    const std::size_t n = v.size();
+    const std::array<std::size_t, 4> ranks = {0, n / 2, (99 * n) / 100, n - 1};
+    std::array<double, 4> expected{};
+    for (std::size_t f = 0; f < ranks.size(); ++f) {
+      std::vector<double> copy(v);
+      std::nth_element(copy.begin(), copy.begin() + static_cast<std::ptrdiff_t>(ranks[f]), copy.end());
+      expected[f] = copy[ranks[f]];
+    }
+    for (int threads : {1, 2, 4}) {
+      par::set_threads(threads);
+      EXPECT_EQ(par::nth_values(v, ranks), expected) << "n " << n << ", " << threads << " threads";
+    }
   }
   par::set_threads(0);
 }
