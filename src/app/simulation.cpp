@@ -429,8 +429,14 @@ RunSummary Runner::advance() {
       // Only the order is kept: the grid is freed before the fields are copied (the peak memory of
       // a run without stored lists lies here).
       const std::vector<std::uint32_t> order = std::move(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
-      // Field by field in parallel (Particles::gather is serial; the other threads would wait).
-      p_.for_each_field([&order](const FieldInfo&, auto& v) { par::permute_prefix(v, order, "reorder"); });
+      // Particles::gather, field by field, with the copy in parallel (gather is serial: the other
+      // threads would wait). Each field is replaced by an exact-size copy, as gather does (a copy
+      // back into the field instead left the peak of a 1M run 24 MB higher).
+      p_.for_each_field([&order](const FieldInfo&, auto& v) {
+        std::remove_reference_t<decltype(v)> moved(order.size());
+        par::for_each(order.size(), [&](std::size_t k) { moved[k] = v[order[k]]; }, "reorder", 4096);
+        v.swap(moved);
+      });
     }
     const std::size_t updates_before = rates_.particle_updates();
     const std::size_t n_before = distributed() ? global_count() : p_.size();
