@@ -63,8 +63,7 @@ void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::
 
 // offsets[0] = 0, offsets[k + 1] = offsets[k] + count(k) for k < n (offsets gets n + 1 entries): sums
 // of blocks of counts in parallel, the blocks' starts serially, then every offset in parallel.
-// Integer sums, so the same values for any thread count. count(k) may read offsets[k + 1] (a
-// histogram turned into offsets in place): each is read before it is written.
+// Integer sums, so the same values for any thread count.
 template <class Offsets, class Count>
 void prefix_offsets(std::size_t n, Count&& count, Offsets& offsets, std::string_view trace_label = {}) {
   constexpr std::size_t kBlock = 4096;
