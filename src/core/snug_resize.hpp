@@ -14,6 +14,14 @@ void resize_snug(std::vector<T, A>& v, std::size_t n) {
   v.resize(n);
 }
 
+// resize_snug that never shrinks, for per-particle scratch of which each evaluation uses a prefix
+// of changing length (the entries past it are stale): after a shrink, every growth zero-filled the
+// new entries on one thread while the others waited (block timesteps' partial evaluations).
+template <class T, class A>
+void grow_snug(std::vector<T, A>& v, std::size_t n) {
+  if (v.size() < n) resize_snug(v, n);
+}
+
 // A per-thread scratch buffer of at least n entries for one list's values: it only ever grows, so
 // that the many lists of an evaluation (sizes varying by tens around their mean) neither zero-fill
 // the entries a resize adds nor pay for a size update. The values beyond n are stale.

@@ -1,7 +1,7 @@
 #pragma once
 // The values of given ranks in an unsorted array (rank k: what std::nth_element puts at index k),
-// found in parallel (values finite, ranks below the size): a rank's value is unique, so it is the same for any thread count. Used for the
-// quantiles of h that size the cells and tiles of every evaluation (app/rate_evaluator.cpp), which
+// found in parallel (values finite, ranks below the size): a rank's value is unique, so it is the
+// same for any thread count. Used for the quantiles of h that size the cells and tiles of every evaluation (app/rate_evaluator.cpp), which
 // a copy and std::nth_element made on one thread while the others waited: a few percent of a block
 // timestep run on two threads (docs/performance.md).
 // How: values are bucketed by a monotone map of [min, max] onto kBuckets buckets (histograms of
@@ -31,12 +31,8 @@ std::array<double, N> nth_values(const std::vector<double>& v, const std::array<
   const Range r = reduce(n, Range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
                          [&](std::size_t i) { return Range{v[i], v[i]}; },
                          [](Range a, Range b) { return Range{std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; });
-  if (!(r.lo < r.hi)) {  // all equal
-    std::vector<double> copy(v);
-    for (std::size_t f = 0; f < N; ++f) {
-      std::nth_element(copy.begin(), copy.begin() + static_cast<std::ptrdiff_t>(ranks[f]), copy.end());
-      out[f] = copy[ranks[f]];
-    }
+  if (!(r.lo < r.hi)) {  // all equal: every rank's value
+    out.fill(r.lo);
     return out;
   }
   // Monotone in x: x - lo, the product by a positive constant and the truncation all keep order.

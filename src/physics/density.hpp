@@ -81,9 +81,7 @@ void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& 
 // Each particle's kernel slope at its smoothing length p.h.
 template <class K, int D>
 void bind_kernel_slopes(const Particles<D>& p, std::vector<KernelSlope>& slopes) {
-  // Grown only (entries past p.size() are stale): a partial evaluation's fewer particles, then
-  // all of them again, had zero-filled the slopes on one thread.
-  if (slopes.size() < p.size()) resize_snug(slopes, p.size());
+  grow_snug(slopes, p.size());  // (entries past p.size() are stale)
   par::for_each(p.size(), [&](std::size_t i) { slopes[i] = slope_of(KernelAt<K, D>(p.h[i])); }, "density");
 }
 

@@ -33,13 +33,12 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
 
 // Per-particle sums over each half list's pairs (pair_lists.hpp): add_list(i, js, F, sum_i) adds
 // the list's terms to sum_i and to the writable partners' sums. Sums are kept for the writable
-// particles (pairs.writable()) and zeroed first, in parallel; sums only grows (entries beyond the
-// writable ones are stale), since each growth after a shrink zero-filled the new entries serially
-// (the writable count changes with every partial evaluation of block timesteps).
+// particles (pairs.writable()) and zeroed first, in parallel (grow_snug: entries beyond the
+// writable ones are stale).
 template <class Pairs, class T, class AddList>
 void sum_pair_lists(const Pairs& pairs, std::vector<T>& sums, AddList&& add_list) {
   const std::size_t m = pairs.writable();
-  if (sums.size() < m) resize_snug(sums, m);
+  grow_snug(sums, m);
   par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     T sum_i{};
