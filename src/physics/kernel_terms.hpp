@@ -12,6 +12,17 @@ namespace sphdisk {
 template <class K, int D>
 void kernel_terms(const double* dist, double inv_h, std::size_t n, double* w, double* dw);
 
+// The solve's density sums at one h: kernel_terms into w and dw, then sum_k m_k w[k] and
+// sum_k m_k dw[k] (m_k = mass[k], or 1 where mass is null: equal masses factored out), each as four
+// partial sums (lane l takes k = l, l + 4, ... in order, from +0) added as (s0 + s1) + (s2 + s3).
+// The partial sums are one vector of four lanes, so that order costs one vector addition per four
+// candidates instead of four scalar ones, and every path gives the same bits.
+struct KernelSums {
+  double w, dw;
+};
+template <class K, int D>
+KernelSums kernel_sums(const double* dist, const double* mass, double inv_h, std::size_t n, double* w, double* dw);
+
 // dist[k] = sqrt(dist2[k]): the candidates' distances from the squared ones the search hands over,
 // dispatched the same way (square roots are correctly rounded, so every path gives the same bits).
 // Two-wide, this loop held over half of the solve's samples on an AMD EPYC with AVX-512.

@@ -106,37 +106,17 @@ SmoothingLengthResult smoothing_length_at(std::size_t i, const Particles<D>& p, 
   const double mi = p.mass[i];
   // rho(h) and d rho/dh: sum_j m_j w(q_j) and sum_j m_j (D w(q_j) + q_j w'(q_j)) (the latter is
   // -h^(D+1)/sigma d rho/dh). The kernel terms first, candidate by candidate into two buffers: a loop
-  // without a sum, which vectorises (kernel_terms.hpp; with the sums in it, it did not: ~14
-  // instructions per candidate for w alone). Then the sums, in four interleaved partial sums added
-  // in a fixed order (an ordered double sum cannot use vector instructions).
+  // without a sum, which vectorises (with the sums in it, it did not: ~14 instructions per candidate
+  // for w alone). Then the sums, in four interleaved partial sums added in a fixed order, one
+  // vector of four (kernel_terms.hpp, kernel_sums).
   thread_local std::vector<double> w_buffer, dw_buffer;
   double* wq = scratch_for(w_buffer, cand.size());
   double* dwq = scratch_for(dw_buffer, cand.size());
-  const auto sums_at = [&](double inv_h, auto uniform_c) {
-    constexpr bool kUniform = decltype(uniform_c)::value;
-    const std::size_t n = cand.size();
-    kernel_terms<K, D>(dist, inv_h, n, wq, dwq);
-    const auto m_of = [&](std::size_t k) {
-      if constexpr (kUniform) return 1.0;
-      else return mass[k];
-    };
-    double sw4[4] = {}, sdw4[4] = {};
-    std::size_t k = 0;
-    for (; k + 4 <= n; k += 4)
-      for (std::size_t l = 0; l < 4; ++l) {
-        sw4[l] += m_of(k + l) * wq[k + l];
-        sdw4[l] += m_of(k + l) * dwq[k + l];
-      }
-    for (std::size_t l = 0; k < n; ++k, ++l) {
-      sw4[l] += m_of(k) * wq[k];
-      sdw4[l] += m_of(k) * dwq[k];
-    }
-    const double scale = kUniform ? uniform_mass : 1.0;
-    return std::pair{scale * ((sw4[0] + sw4[1]) + (sw4[2] + sw4[3])), scale * ((sdw4[0] + sdw4[1]) + (sdw4[2] + sdw4[3]))};
-  };
   const auto density_at = [&](double h) {
     const double inv_h = 1.0 / h;
-    const auto [sum_w, sum_dw] = uniform ? sums_at(inv_h, std::true_type{}) : sums_at(inv_h, std::false_type{});
+    const KernelSums s = kernel_sums<K, D>(dist, mass, inv_h, cand.size(), wq, dwq);
+    const double scale = uniform ? uniform_mass : 1.0;
+    const double sum_w = scale * s.w, sum_dw = scale * s.dw;
     const double self = mi * K::w(0.0);
     const double sw = self + sum_w;
     const double sdw = D * self + sum_dw;
