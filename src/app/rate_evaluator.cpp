@@ -121,9 +121,9 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
   if (reusable) kept_.resize(owned);
   // One process, every particle active, lists not kept for reuse (the common case): the gather
-  // lists are made in the pair loops' tile order, from which the half lists are written where the
-  // loops read them, with no copy (pair_lists.hpp). Else list i is particle i's, as appending
-  // (inactive particles) and reuse need.
+  // lists are made in the pair loops' tile order, and the half lists are left inside them, where
+  // the loops read them (pair_lists.hpp). Else list i is particle i's, as appending (inactive
+  // particles) and reuse need.
   const bool tile_ordered = !domain_ && active == owned && !reusable && storage_ == PairStorage::Stored && !whole_.set;
   double cell_size;
   // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
@@ -205,8 +205,8 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       ScopedPhase t(timers_, "neighbour_search");
       if (tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
       if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
-      // Left in the search's blocks unless reused lists will be read again (the half lists read
-      // them there; appending joins them).
+      // Left in the search's blocks unless reused lists will be read again (the half lists are
+      // made there; appending joins them).
       else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable,
                                          tile_ordered ? pairs_lists_.order.data() : nullptr);
     }

@@ -294,6 +294,7 @@ void NeighbourLists::offsets_from_blocks(std::size_t n) {
     }
   }, {}, 1);
   joined = false;
+  within = nullptr;
 }
 
 void NeighbourLists::join() {
@@ -302,13 +303,18 @@ void NeighbourLists::join() {
   resize_snug(index, total());
   par::for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
-    std::copy_n(block_index[b].data(), offsets[i1] - offsets[i0], index.data() + offsets[i0]);
+    if (within) {
+      for (std::size_t i = i0; i < i1; ++i) std::copy_n(list(i).data(), count(i), index.data() + offsets[i]);
+    } else {
+      std::copy_n(block_index[b].data(), offsets[i1] - offsets[i0], index.data() + offsets[i0]);
+    }
   }, {}, 1);
-  joined = true;
+  held_joined();
 }
 
 std::size_t NeighbourLists::bytes() const {
-  std::size_t b = offsets.capacity() * sizeof(std::size_t) + index.capacity() * sizeof(std::uint32_t);
+  std::size_t b = offsets.capacity() * sizeof(std::size_t) + index.capacity() * sizeof(std::uint32_t) +
+                  skip.capacity() * sizeof(std::uint32_t);
   for (const auto& v : block_index) b += v.capacity() * sizeof(std::uint32_t);
   for (const auto& v : block_count) b += v.capacity() * sizeof(std::uint32_t);
   return b;

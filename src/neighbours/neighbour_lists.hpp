@@ -32,18 +32,33 @@ struct NeighbourLists {
   // A reader that visits each list once (the half lists, pair_lists.hpp) reads them there through
   // list(i), which spares the copy of every entry into index.
   bool joined = true;
+  // Or the lists lie inside another set of lists, which must outlive the reads: list i is count(i)
+  // entries of within->list(i) from entry skip[i] on (half lists left inside the gather lists they
+  // were made from, pair_lists.cpp); null where the lists are held here.
+  const NeighbourLists* within = nullptr;
+  std::vector<std::uint32_t> skip;
 
   std::span<const std::uint32_t> list(std::size_t i) const {
+    if (within) return {within->list(i).data() + skip[i], count(i)};
     if (joined) return {index.data() + offsets[i], count(i)};
     const std::size_t b = i / kBlock;
     return {block_index[b].data() + (offsets[i] - offsets[b * kBlock]), count(i)};
+  }
+  // List i for writing in place (lists held here).
+  std::span<std::uint32_t> entries(std::size_t i) {
+    const std::span<const std::uint32_t> l = list(i);
+    return {const_cast<std::uint32_t*>(l.data()), l.size()};
   }
   const std::uint32_t* begin(std::size_t i) const { return list(i).data(); }  // joined or not
   const std::uint32_t* end(std::size_t i) const { return begin(i) + count(i); }
   // The offsets of n lists left in the blocks (block b's counts: block_count[b], one per list); not
   // joined.
   void offsets_from_blocks(std::size_t n);
-  void join();  // copies the blocks' lists into index (in parallel); nothing if joined
+  void join();  // copies the lists into index (in parallel) from the blocks or from `within`; nothing if joined
+  void held_joined() {  // the lists are (being) written into index
+    joined = true;
+    within = nullptr;
+  }
 
   std::size_t bytes() const;  // memory held (capacities, builder scratch included)
 };

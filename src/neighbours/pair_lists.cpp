@@ -168,6 +168,10 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // the tiles need not be compared (all but the ~1% widest supports).
 // HalfListOf::of(i, own, near, far): i's half list from its gather list `own`, written to near
 // (room for own.size() + kScanSlack entries), its far pairs appended to far; returns the near count.
+// In two steps for a caller that keeps the later partners where they are (half_lists_in_tile_order):
+// lacking() writes the earlier partners that j's list lacks to near, and where whole_tail(i) the
+// half list is those followed by the later partners, own[count, size()); else sorted() makes it
+// from the lacking ones and the later partners appended behind them in near.
 template <int D, class WithinTile>
 struct HalfListOf {
   const PairLists& out;
@@ -175,28 +179,26 @@ struct HalfListOf {
   const std::vector<double>& h;
   WithinTile& within_tile;
 
-  std::size_t of(std::uint32_t i, std::span<const std::uint32_t> own, std::uint32_t* near, std::vector<std::uint32_t>& far) const {
-    const std::size_t m = out.writable;
+  EarlierPartners lacking(std::uint32_t i, std::span<const std::uint32_t> own, std::uint32_t* near) const {
     const std::vector<std::uint32_t>& slot = out.slot;
+    assert(std::is_sorted(own.begin(), own.end(), [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
+    // Pairs of two unwritable particles are dropped: an unwritable i keeps only writable lacking ones.
+    const auto limit = i < out.writable ? UINT32_MAX : static_cast<std::uint32_t>(out.writable);
+    if constexpr (D == 2)
+      return earlier_partners(own.data(), own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
+    else
+      return earlier_partners_scalar<D>(own.data(), own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
+  }
+
+  bool whole_tail(std::uint32_t i) const { return i < out.writable && within_tile(i); }
+
+  // near[0, end): the lacking earlier partners, then the later ones. Sorted into near and far
+  // (branch-free for the near ones), and pairs of two unwritable particles dropped (the lacking
+  // ones are writable already: lacking's limit).
+  std::size_t sorted(std::uint32_t i, std::size_t end, std::uint32_t* near, std::vector<std::uint32_t>& far) const {
+    const std::size_t m = out.writable;
     const std::int32_t* tile = out.tile.data();
     const bool i_writable = i < m;
-    const std::uint32_t* first = own.data();
-    const std::uint32_t* last = first + own.size();
-    assert(std::is_sorted(first, last, [&](std::uint32_t a, std::uint32_t c) { return slot[a] < slot[c]; }));
-    const auto limit = i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m);
-    // The earlier partners that j's list lacks, written straight to the list.
-    EarlierPartners e;
-    if constexpr (D == 2)
-      e = earlier_partners(first, own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
-    else
-      e = earlier_partners_scalar<D>(first, own.size(), slot[i], slot.data(), pos[i], pos.data(), h.data(), limit, near);
-    std::size_t end = e.lacking;
-    const std::uint32_t* later = first + e.count;
-    std::copy(later, last, near + end);
-    end += static_cast<std::size_t>(last - later);
-    if (i_writable && within_tile(i)) return end;
-    // Else sorted into near and far (branch-free for the near ones), and pairs of two unwritable
-    // ones dropped (the lacking ones are writable already: earlier_partners' limit).
     std::size_t kept = 0;
     for (std::size_t k = 0; k < end; ++k) {
       const std::uint32_t j = near[k];
@@ -207,6 +209,14 @@ struct HalfListOf {
       if (!is_near && wanted) far.push_back(j);
     }
     return kept;
+  }
+
+  std::size_t of(std::uint32_t i, std::span<const std::uint32_t> own, std::uint32_t* near, std::vector<std::uint32_t>& far) const {
+    const EarlierPartners e = lacking(i, own, near);
+    std::copy(own.begin() + static_cast<std::ptrdiff_t>(e.count), own.end(), near + e.lacking);
+    const std::size_t end = e.lacking + (own.size() - e.count);
+    if (whole_tail(i)) return end;
+    return sorted(i, end, near, far);
   }
 };
 
@@ -266,7 +276,7 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
       far_end += B.far_count[k];
     }
   }, "neighbour_search", 1);
-  for (NeighbourLists* nl : {&out.near, &out.far}) nl->joined = true;
+  for (NeighbourLists* nl : {&out.near, &out.far}) nl->held_joined();
   const auto near_count = [&](std::size_t s) {
     const std::uint32_t i = out.order[s];
     return static_cast<std::size_t>(blocks[i / kBlock].near_count[i % kBlock]);
@@ -288,61 +298,70 @@ void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, 
 }
 
 // From gather lists already in tile order (list s: particle out.order[s]'s, the search having
-// visited the particles in that order): read front to back and written front to back into the
-// near lists' blocks (NeighbourLists::list reads them there), so that no list is copied again and
-// no per-build buffer is faulted in (the blocks are kept between builds).
+// visited the particles in that order), read front to back. Each half list is left inside its
+// gather list, where the pair loops read it (NeighbourLists::within): its later partners stay where
+// the search wrote them and the earlier partners that j's list lacks (few) are written just before
+// them, over earlier partners already read; a list with far pairs or dropped ones (the widest ~1%)
+// is written to the end of its gather list whole. So no half list is copied or held apart from the
+// gather lists (they were two copies of every pair, and the peak memory of a build).
 template <int D, class WithinTile>
-void half_lists_in_tile_order(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
+void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
                               PairLists& out, WithinTile&& within_tile) {
   const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
   const std::size_t n = src.size();
   constexpr std::size_t kListBlock = NeighbourLists::kBlock;  // blocks as NeighbourLists::list reads them
   const std::size_t nblocks = (n + kListBlock - 1) / kListBlock;
-  for (NeighbourLists* nl : {&out.near, &out.far})
-    if (nl->block_index.size() < nblocks) {  // grown, never shrunk (as the search's blocks)
-      nl->block_index.resize(nblocks);
-      nl->block_count.resize(nblocks);
-    }
+  NeighbourLists& near = out.near;
+  std::vector<std::vector<std::uint32_t>>().swap(near.block_index);  // entries of an earlier build: none held now
+  OverwriteVector<std::uint32_t>().swap(near.index);
+  if (near.block_count.size() < nblocks) near.block_count.resize(nblocks);
+  if (out.far.block_index.size() < nblocks) {  // grown, never shrunk (as the search's blocks)
+    out.far.block_index.resize(nblocks);
+    out.far.block_count.resize(nblocks);
+  }
+  near.skip.resize(n);
   par::for_each(nblocks, [&](std::size_t b) {
-    std::vector<std::uint32_t> near, near_count, far, far_count;  // local headers, the blocks' memory reused
-    near.swap(out.near.block_index[b]);
-    near_count.swap(out.near.block_count[b]);
+    std::vector<std::uint32_t> near_count, far, far_count;  // local headers, the blocks' memory reused
+    near_count.swap(near.block_count[b]);
     far.swap(out.far.block_index[b]);
     far_count.swap(out.far.block_count[b]);
     const std::size_t s0 = b * kListBlock, s1 = std::min(n, s0 + kListBlock);
     near_count.resize(s1 - s0);
     far_count.resize(s1 - s0);
     far.clear();
-    // The block's lists are made in this thread's scratch (in cache; it only grows), then copied
-    // to the block's buffer at their exact size (grown by 1/16 beyond need: resize_snug). Written
-    // into the buffer directly, it had to be grown for a whole gather list ahead of each half list,
-    // and vector growth left up to half of it unused.
-    thread_local std::vector<std::uint32_t> scratch;
-    std::size_t end = 0;
+    thread_local std::vector<std::uint32_t> scratch;  // in cache; it only grows
     for (std::size_t s = s0; s < s1; ++s) {
-      const std::span<const std::uint32_t> own = src.list(s);
-      std::uint32_t* at = scratch_for(scratch, end + own.size() + kScanSlack) + end;
+      const std::uint32_t i = out.order[s];
+      const std::span<std::uint32_t> own = src.entries(s);
+      std::uint32_t* buffer = scratch_for(scratch, own.size() + kScanSlack);
       const std::size_t far_before = far.size();
-      const std::size_t count = half.of(out.order[s], own, at, far);
-      end += count;
-      near_count[s - s0] = static_cast<std::uint32_t>(count);
+      const EarlierPartners e = half.lacking(i, own, buffer);
+      std::size_t first;  // where i's half list starts in its gather list
+      if (half.whole_tail(i)) {
+        first = e.count - e.lacking;  // the lacking ones over the last earlier partners, all read
+        std::copy_n(buffer, e.lacking, own.data() + first);
+      } else {
+        std::copy(own.begin() + static_cast<std::ptrdiff_t>(e.count), own.end(), buffer + e.lacking);
+        const std::size_t kept = half.sorted(i, e.lacking + own.size() - e.count, buffer, far);
+        first = own.size() - kept;
+        std::copy_n(buffer, kept, own.data() + first);
+      }
+      near.skip[s] = static_cast<std::uint32_t>(first);
+      near_count[s - s0] = static_cast<std::uint32_t>(own.size() - first);
       far_count[s - s0] = static_cast<std::uint32_t>(far.size() - far_before);
     }
-    resize_snug(near, end);
-    std::copy_n(scratch.data(), end, near.data());
-    near.swap(out.near.block_index[b]);
-    near_count.swap(out.near.block_count[b]);
+    near_count.swap(near.block_count[b]);
     far.swap(out.far.block_index[b]);
     far_count.swap(out.far.block_count[b]);
   }, "neighbour_search", 1);
-  OverwriteVector<std::uint32_t>().swap(out.near.index);  // no joined copy (of an earlier build's lists)
-  out.near.offsets_from_blocks(n);
+  near.offsets_from_blocks(n);
+  near.within = &src;  // (after offsets_from_blocks, which makes them held lists)
   out.far.offsets_from_blocks(n);
   out.far.join();  // few (the widest supports): read joined (for_each_pair_list)
 }
 
 template <int D>
-void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
+void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out, bool in_tile_order) {
   if (gather.size() != out.order.size())
     throw std::logic_error("build_half_lists_from_gather: every particle of the grid needs its gather list");
@@ -423,8 +442,8 @@ void no_far_pairs(PairLists& out) {
 
 template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&, TileWrites);
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&, TileWrites);
-template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&, bool);
-template void build_half_lists_from_gather(const NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&, bool);
+template void build_half_lists_from_gather(NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&, bool);
+template void build_half_lists_from_gather(NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&, bool);
 template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
 template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 

@@ -74,11 +74,12 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // Hernquist & Katz 1989). A pair belongs to the first particle in cell order whose gather list
 // holds it, which may be the second particle of the pair: `out`'s tile order must have been built
 // with TileWrites::AllNeighbours.
-// in_tile_order: gather list s is particle out.order[s]'s (searched in that order: then the half
-// lists are written where the pair loops read them, out.near left in its blocks); else list i is
-// particle i's.
+// in_tile_order: gather list s is particle out.order[s]'s (searched in that order); then the half
+// lists are left inside the gather lists, where the pair loops read them (out.near.within =
+// &gather: the gather lists are overwritten in part and must stay until the pairs are read);
+// else list i is particle i's and the gather lists are only read.
 template <int D>
-void build_half_lists_from_gather(const NeighbourLists& gather, const std::vector<Vec<D>>& pos,
+void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out, bool in_tile_order = false);
 
 // Step 3 of lists built wider than the supports (reused with a skin, list_reuse.hpp): `out` gets
@@ -112,7 +113,7 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
   par::for_each_coloured(pl.colour_start, [&](std::size_t c) {
     const std::uint32_t t = pl.tiles_by_colour[c];
     for (std::size_t s = pl.tile_start[t]; s < pl.tile_start[t + 1]; ++s) {
-      if (near.count(s) > 0) f(pl.order[s], near.list(s), near.offsets[s]);  // joined or still in the builder's blocks
+      if (near.count(s) > 0) f(pl.order[s], near.list(s), near.offsets[s]);  // joined, in the builder's blocks or within the gather lists
     }
   }, trace_label);
   const NeighbourLists& far = pl.far;

@@ -292,7 +292,7 @@ TEST(PairLists, GatherListsReadInTheirBlocksEqualJoinedOnes) {
     const auto a = blocked.list(i), b = joined.list(i);
     ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "particle " << i;
   }
-  auto half_lists = [&](const NeighbourLists& gather) {
+  auto half_lists = [&](NeighbourLists& gather) {
     PairLists pairs;
     build_tile_order(grid, 4, p.size(), pairs, TileWrites::AllNeighbours);
     build_half_lists_from_gather(gather, p.pos, h, pairs);
@@ -308,9 +308,9 @@ TEST(PairLists, GatherListsReadInTheirBlocksEqualJoinedOnes) {
 }
 
 // Gather lists searched in the tile order (list s: particle order[s]'s) give the half lists of the
-// gather lists in particle order, entry for entry (written straight into the near lists' blocks
-// instead of copied into place). Some particles unwritable and tiles of 2 cells, so that far lists
-// and dropped pairs occur; the second build reuses the first one's blocks with other radii.
+// gather lists in particle order, entry for entry (left inside the gather lists instead of copied
+// into place), and so does joining them. Some particles unwritable and tiles of 2 cells, so that far
+// lists and dropped pairs occur; the second build reuses the first one's blocks with other radii.
 TEST(PairLists, HalfListsFromGatherListsInTileOrder) {
   const auto p = test::random_particles<2>(5000, 43, true);
   const auto grid = build_cell_grid(p.pos, p.id, 0.02);
@@ -333,7 +333,8 @@ TEST(PairLists, HalfListsFromGatherListsInTileOrder) {
     build_tile_order(grid, 2, writable, reused, TileWrites::AllNeighbours);
     build_settled_neighbour_lists(grid, p.pos, radius, keep_all, gather_tiled, p.size(), false, reused.order.data());
     build_half_lists_from_gather(gather_tiled, p.pos, h, reused, true);
-    EXPECT_FALSE(reused.near.joined);  // read in the blocks
+    EXPECT_EQ(reused.near.within, &gather_tiled);  // read inside the gather lists
+    EXPECT_TRUE(reused.near.index.empty() && reused.near.block_index.empty());  // no copy held
     EXPECT_EQ(reused.order, by_particle.order);
     EXPECT_EQ(reused.near.offsets, by_particle.near.offsets);
     EXPECT_EQ(reused.far.offsets, by_particle.far.offsets);
@@ -344,5 +345,8 @@ TEST(PairLists, HalfListsFromGatherListsInTileOrder) {
       ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "list " << s;
     }
     EXPECT_EQ(reused.far.index, by_particle.far.index);
+    reused.near.join();
+    EXPECT_EQ(reused.near.within, nullptr);
+    EXPECT_EQ(reused.near.index, by_particle.near.index);
   }
 }
