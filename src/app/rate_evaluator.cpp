@@ -248,7 +248,18 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     listed_h_.resize(owned);
     for (std::size_t i = 0; i < owned; ++i) listed_h_[i] = 0.5 * kept_[i];
   }
-  build_half_lists_from_gather(candidates_, p.pos, reusable ? listed_h_ : p.h, pairs_lists_, tile_ordered);
+  if (reusable) {
+    // The half lists are made inside the gather lists they come from, overwriting them in part;
+    // kept gather lists are read again by the next evaluations' h solves (reuse_adaptive_lists),
+    // so these half lists are made inside a copy.
+    candidates_.join();
+    gather_copy_.offsets = candidates_.offsets;
+    gather_copy_.index = candidates_.index;
+    gather_copy_.held_joined();
+    build_half_lists_from_gather(gather_copy_, p.pos, listed_h_, pairs_lists_, tile_ordered);
+  } else {
+    build_half_lists_from_gather(candidates_, p.pos, p.h, pairs_lists_, tile_ordered);
+  }
   lists_built(p, reusable);
   return true;
 }
@@ -565,7 +576,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
   scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
   scratch += predicted_h_.capacity() * sizeof(double);
-  return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes()},
+  return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes() + gather_copy_.bytes()},
           {"involved_particles", involved_.bytes() + members_.capacity() * sizeof(std::uint32_t)},
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},

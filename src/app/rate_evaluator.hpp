@@ -156,6 +156,7 @@ class RateEvaluator {
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   ParticleDomain<D>* domain_ = nullptr;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
+  NeighbourLists gather_copy_;  // with a list skin: the copy of candidates_ that the half lists lie in
   std::vector<double> search_radius_;
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::vector<KernelSlope> slopes_;  // Adaptive: each particle's kernel slope (density.hpp)

@@ -314,7 +314,7 @@ void NeighbourLists::join() {
 
 std::size_t NeighbourLists::bytes() const {
   std::size_t b = offsets.capacity() * sizeof(std::size_t) + index.capacity() * sizeof(std::uint32_t) +
-                  skip.capacity() * sizeof(std::uint32_t);
+                  start.capacity() * sizeof(const std::uint32_t*);
   for (const auto& v : block_index) b += v.capacity() * sizeof(std::uint32_t);
   for (const auto& v : block_count) b += v.capacity() * sizeof(std::uint32_t);
   return b;

@@ -32,14 +32,14 @@ struct NeighbourLists {
   // A reader that visits each list once (the half lists, pair_lists.hpp) reads them there through
   // list(i), which spares the copy of every entry into index.
   bool joined = true;
-  // Or the lists lie inside another set of lists, which must outlive the reads: list i is count(i)
-  // entries of within->list(i) from entry skip[i] on (half lists left inside the gather lists they
-  // were made from, pair_lists.cpp); null where the lists are held here.
+  // Or the lists lie inside another set of lists, `within`, which must outlive the reads: list i is
+  // count(i) entries from start[i] on (half lists left inside the gather lists they were made from,
+  // pair_lists.cpp). within is null where the lists are held here.
   const NeighbourLists* within = nullptr;
-  std::vector<std::uint32_t> skip;
+  std::vector<const std::uint32_t*> start;
 
   std::span<const std::uint32_t> list(std::size_t i) const {
-    if (within) return {within->list(i).data() + skip[i], count(i)};
+    if (within) return {start[i], count(i)};
     if (joined) return {index.data() + offsets[i], count(i)};
     const std::size_t b = i / kBlock;
     return {block_index[b].data() + (offsets[i] - offsets[b * kBlock]), count(i)};
@@ -58,6 +58,10 @@ struct NeighbourLists {
   void held_joined() {  // the lists are (being) written into index
     joined = true;
     within = nullptr;
+  }
+  void view_inside(const NeighbourLists& lists) {  // offsets and start set
+    joined = false;
+    within = &lists;
   }
 
   std::size_t bytes() const;  // memory held (capacities, builder scratch included)

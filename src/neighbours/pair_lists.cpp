@@ -166,12 +166,9 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // within_tile(i): whether i's whole list lies within one tile length of it, so that every partner
 // is in the same or an adjacent tile (cells differ by at most tile_cells, tiles by at most one) and
 // the tiles need not be compared (all but the ~1% widest supports).
-// HalfListOf::of(i, own, near, far): i's half list from its gather list `own`, written to near
-// (room for own.size() + kScanSlack entries), its far pairs appended to far; returns the near count.
-// In two steps for a caller that keeps the later partners where they are (half_lists_in_tile_order):
-// lacking() writes the earlier partners that j's list lacks to near, and where whole_tail(i) the
-// half list is those followed by the later partners, own[count, size()); else sorted() makes it
-// from the lacking ones and the later partners appended behind them in near.
+// HalfListOf: lacking() writes the earlier partners of i whose own lists lack i to a buffer; where
+// whole_tail(i), i's half list is those followed by its later partners; else sorted() makes it from
+// them (far pairs and dropped pairs taken out); left_inside() leaves the result in i's gather list.
 template <int D, class WithinTile>
 struct HalfListOf {
   const PairLists& out;
@@ -211,99 +208,102 @@ struct HalfListOf {
     return kept;
   }
 
-  std::size_t of(std::uint32_t i, std::span<const std::uint32_t> own, std::uint32_t* near, std::vector<std::uint32_t>& far) const {
-    const EarlierPartners e = lacking(i, own, near);
-    std::copy(own.begin() + static_cast<std::ptrdiff_t>(e.count), own.end(), near + e.lacking);
-    const std::size_t end = e.lacking + (own.size() - e.count);
-    if (whole_tail(i)) return end;
-    return sorted(i, end, near, far);
+  // i's half list left inside its gather list `own` (NeighbourLists::within): where whole_tail(i)
+  // the later partners stay where the search wrote them and the lacking earlier ones (few) are
+  // written just before them, over earlier partners already read; else the list (far pairs and
+  // dropped ones taken out, the widest ~1%) is written to the end of `own` whole. buffer: room for
+  // own.size() + kScanSlack entries. Returns where the half list starts in `own` (it runs to the end).
+  std::size_t left_inside(std::uint32_t i, std::span<std::uint32_t> own, std::uint32_t* buffer,
+                          std::vector<std::uint32_t>& far) const {
+    const EarlierPartners e = lacking(i, own, buffer);
+    if (whole_tail(i)) {
+      std::copy_n(buffer, e.lacking, own.data() + (e.count - e.lacking));
+      return e.count - e.lacking;
+    }
+    std::copy(own.begin() + static_cast<std::ptrdiff_t>(e.count), own.end(), buffer + e.lacking);
+    const std::size_t kept = sorted(i, e.lacking + own.size() - e.count, buffer, far);
+    std::copy_n(buffer, kept, own.data() + (own.size() - kept));
+    return own.size() - kept;
   }
 };
 
-// From gather lists in particle order (list i: particle i's), read as they lie in memory; each
-// block's half lists are then copied to their places in tile order.
+// The per-list work of both builders below: list k of src is particle i's; its half list is left
+// inside it (start: its first entry), its far pairs appended to far. Returns the near count.
+template <class Half>
+std::size_t half_list_inside(const Half& half, NeighbourLists& src, std::size_t k, std::uint32_t i,
+                             const std::uint32_t*& start, std::vector<std::uint32_t>& far) {
+  thread_local std::vector<std::uint32_t> scratch;  // in cache; it only grows
+  const std::span<std::uint32_t> own = src.entries(k);
+  const std::size_t first = half.left_inside(i, own, scratch_for(scratch, own.size() + kScanSlack), far);
+  start = own.data() + first;
+  return own.size() - first;
+}
+
+// Both builders leave every half list inside its gather list (NeighbourLists::within), where the
+// pair loops read it: no half list is copied or held apart from the gather lists (they were two
+// copies of every pair, and the peak memory of a build). The far lists (few) are joined in tile order.
+
+// From gather lists in particle order (list i: particle i's), read as they lie in memory; the near
+// lists are then numbered in tile order (near list s lies in gather list order[s]).
 template <int D, class WithinTile>
-void half_lists_from(const NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
+void half_lists_from(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
                      WithinTile&& within_tile) {
   const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
   const std::size_t n = src.size();
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
-  // The lists are joined here: the block buffers of an earlier tile-ordered build
-  // (half_lists_in_tile_order) are released, not held beside the joined copy (with block steps
-  // they raised the 1M ring's peak RSS by 10%).
+  NeighbourLists& near = out.near;
+  // Entries and block buffers of an earlier build are released, not held beside the gather lists.
   for (NeighbourLists* nl : {&out.near, &out.far}) {
     std::vector<std::vector<std::uint32_t>>().swap(nl->block_index);
     std::vector<std::vector<std::uint32_t>>().swap(nl->block_count);
   }
+  OverwriteVector<std::uint32_t>().swap(near.index);
+  OverwriteVector<const std::uint32_t*> start(n);  // by particle
+  OverwriteVector<std::uint32_t> count(n);
   struct Block {
-    // The block's near lists, one after the other (not zero-filled: every entry is written before
-    // it is read), their counts, and the same for the far lists.
-    std::unique_ptr<std::uint32_t[]> near;
-    std::size_t near_used = 0;
-    std::vector<std::uint32_t> far, near_count, far_count;
+    std::vector<std::uint32_t> far, far_count;
   };
   std::vector<Block> blocks(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
-    // At most every listed partner stays: sized once, so that appending never reallocates; the
-    // vector search writes up to kScanSlack entries beyond its last one.
-    B.near = std::make_unique_for_overwrite<std::uint32_t[]>(src.offsets[i1] - src.offsets[i0] + kScanSlack);
-    B.near_count.resize(i1 - i0);
     B.far_count.resize(i1 - i0);
-    std::size_t end = 0;
     for (std::size_t i = i0; i < i1; ++i) {  // in particle order, as the gather lists lie in memory
       const std::size_t far_before = B.far.size();
-      const std::size_t count = half.of(static_cast<std::uint32_t>(i), src.list(i), B.near.get() + end, B.far);
-      end += count;
-      B.near_count[i - i0] = static_cast<std::uint32_t>(count);
+      count[i] = static_cast<std::uint32_t>(half_list_inside(half, src, i, static_cast<std::uint32_t>(i), start[i], B.far));
       B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
-    B.near_used = end;
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
-  // Join in tile order (pair_lists.hpp): where each particle's lists start in its block, the
-  // offsets in tile order serially, then every list copied to its place in parallel.
-  OverwriteVector<std::uint32_t> near_at(n), far_at(n);  // first entry of i's lists in its block
+  // In tile order: the near lists' offsets and starts, and the far lists joined (where each
+  // particle's far list starts in its block, the offsets, then every list copied in parallel).
+  par::prefix_offsets(n, [&](std::size_t s) { return std::size_t{count[out.order[s]]}; }, near.offsets, "neighbour_search");
+  near.start.resize(n);
+  par::for_each(n, [&](std::size_t s) { near.start[s] = start[out.order[s]]; }, "neighbour_search", 4096);
+  near.view_inside(src);
+  OverwriteVector<std::uint32_t> far_at(n);  // first entry of i's far list in its block
   par::for_each(nblocks, [&](std::size_t b) {
-    const Block& B = blocks[b];
-    std::uint32_t near_end = 0, far_end = 0;
-    for (std::size_t k = 0; k < B.near_count.size(); ++k) {
-      near_at[b * kBlock + k] = near_end;
+    std::uint32_t far_end = 0;
+    for (std::size_t k = 0; k < blocks[b].far_count.size(); ++k) {
       far_at[b * kBlock + k] = far_end;
-      near_end += B.near_count[k];
-      far_end += B.far_count[k];
+      far_end += blocks[b].far_count[k];
     }
   }, "neighbour_search", 1);
-  for (NeighbourLists* nl : {&out.near, &out.far}) nl->held_joined();
-  const auto near_count = [&](std::size_t s) {
+  out.far.held_joined();
+  par::prefix_offsets(n, [&](std::size_t s) {
     const std::uint32_t i = out.order[s];
-    return static_cast<std::size_t>(blocks[i / kBlock].near_count[i % kBlock]);
-  };
-  const auto far_count = [&](std::size_t s) {
-    const std::uint32_t i = out.order[s];
-    return static_cast<std::size_t>(blocks[i / kBlock].far_count[i % kBlock]);
-  };
-  par::prefix_offsets(n, near_count, out.near.offsets, "neighbour_search");
-  par::prefix_offsets(n, far_count, out.far.offsets, "neighbour_search");
-  resize_snug(out.near.index, out.near.offsets[n]);
+    return std::size_t{blocks[i / kBlock].far_count[i % kBlock]};
+  }, out.far.offsets, "neighbour_search");
   resize_snug(out.far.index, out.far.offsets[n]);
   par::for_each(n, [&](std::size_t s) {
     const std::uint32_t i = out.order[s];
-    const Block& B = blocks[i / kBlock];
-    std::copy_n(B.near.get() + near_at[i], out.near.count(s), out.near.index.data() + out.near.offsets[s]);
-    std::copy_n(B.far.data() + far_at[i], out.far.count(s), out.far.index.data() + out.far.offsets[s]);
+    std::copy_n(blocks[i / kBlock].far.data() + far_at[i], out.far.count(s), out.far.index.data() + out.far.offsets[s]);
   }, "neighbour_search", 1024);
 }
 
 // From gather lists already in tile order (list s: particle out.order[s]'s, the search having
-// visited the particles in that order), read front to back. Each half list is left inside its
-// gather list, where the pair loops read it (NeighbourLists::within): its later partners stay where
-// the search wrote them and the earlier partners that j's list lacks (few) are written just before
-// them, over earlier partners already read; a list with far pairs or dropped ones (the widest ~1%)
-// is written to the end of its gather list whole. So no half list is copied or held apart from the
-// gather lists (they were two copies of every pair, and the peak memory of a build).
+// visited the particles in that order), read front to back.
 template <int D, class WithinTile>
 void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
                               PairLists& out, WithinTile&& within_tile) {
@@ -319,7 +319,7 @@ void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& po
     out.far.block_index.resize(nblocks);
     out.far.block_count.resize(nblocks);
   }
-  near.skip.resize(n);
+  near.start.resize(n);
   par::for_each(nblocks, [&](std::size_t b) {
     std::vector<std::uint32_t> near_count, far, far_count;  // local headers, the blocks' memory reused
     near_count.swap(near.block_count[b]);
@@ -329,25 +329,9 @@ void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& po
     near_count.resize(s1 - s0);
     far_count.resize(s1 - s0);
     far.clear();
-    thread_local std::vector<std::uint32_t> scratch;  // in cache; it only grows
     for (std::size_t s = s0; s < s1; ++s) {
-      const std::uint32_t i = out.order[s];
-      const std::span<std::uint32_t> own = src.entries(s);
-      std::uint32_t* buffer = scratch_for(scratch, own.size() + kScanSlack);
       const std::size_t far_before = far.size();
-      const EarlierPartners e = half.lacking(i, own, buffer);
-      std::size_t first;  // where i's half list starts in its gather list
-      if (half.whole_tail(i)) {
-        first = e.count - e.lacking;  // the lacking ones over the last earlier partners, all read
-        std::copy_n(buffer, e.lacking, own.data() + first);
-      } else {
-        std::copy(own.begin() + static_cast<std::ptrdiff_t>(e.count), own.end(), buffer + e.lacking);
-        const std::size_t kept = half.sorted(i, e.lacking + own.size() - e.count, buffer, far);
-        first = own.size() - kept;
-        std::copy_n(buffer, kept, own.data() + first);
-      }
-      near.skip[s] = static_cast<std::uint32_t>(first);
-      near_count[s - s0] = static_cast<std::uint32_t>(own.size() - first);
+      near_count[s - s0] = static_cast<std::uint32_t>(half_list_inside(half, src, s, out.order[s], near.start[s], far));
       far_count[s - s0] = static_cast<std::uint32_t>(far.size() - far_before);
     }
     near_count.swap(near.block_count[b]);
@@ -355,7 +339,7 @@ void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& po
     far_count.swap(out.far.block_count[b]);
   }, "neighbour_search", 1);
   near.offsets_from_blocks(n);
-  near.within = &src;  // (after offsets_from_blocks, which makes them held lists)
+  near.view_inside(src);  // (after offsets_from_blocks, which makes them held lists)
   out.far.offsets_from_blocks(n);
   out.far.join();  // few (the widest supports): read joined (for_each_pair_list)
 }

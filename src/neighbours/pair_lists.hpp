@@ -74,10 +74,10 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 // Hernquist & Katz 1989). A pair belongs to the first particle in cell order whose gather list
 // holds it, which may be the second particle of the pair: `out`'s tile order must have been built
 // with TileWrites::AllNeighbours.
-// in_tile_order: gather list s is particle out.order[s]'s (searched in that order); then the half
-// lists are left inside the gather lists, where the pair loops read them (out.near.within =
-// &gather: the gather lists are overwritten in part and must stay until the pairs are read);
-// else list i is particle i's and the gather lists are only read.
+// in_tile_order: gather list s is particle out.order[s]'s (searched in that order); else list i is
+// particle i's. Either way the half lists are left inside the gather lists, where the pair loops
+// read them (out.near.within = &gather): the gather lists are overwritten in part and must stay
+// until the pairs have been read.
 template <int D>
 void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out, bool in_tile_order = false);
@@ -112,7 +112,14 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
   const NeighbourLists& near = pl.near;
   par::for_each_coloured(pl.colour_start, [&](std::size_t c) {
     const std::uint32_t t = pl.tiles_by_colour[c];
-    for (std::size_t s = pl.tile_start[t]; s < pl.tile_start[t + 1]; ++s) {
+    const std::size_t s0 = pl.tile_start[t], s1 = pl.tile_start[t + 1];
+    for (std::size_t s = s0; s < s1; ++s) {
+      // Lists left inside gather lists (NeighbourLists::within) in particle order lie apart in
+      // memory: the next one is fetched while this one is read.
+      if (near.within && s + 4 < s1) {
+        const std::span<const std::uint32_t> next = near.list(s + 4);
+        for (std::size_t k = 0; k < next.size(); k += 16) __builtin_prefetch(next.data() + k);
+      }
       if (near.count(s) > 0) f(pl.order[s], near.list(s), near.offsets[s]);  // joined, in the builder's blocks or within the gather lists
     }
   }, trace_label);

@@ -170,7 +170,9 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     std::vector<double> h(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) h[i] = 0.4 * radius[i];  // the settled radius, 0.8 x searched
     build_tile_order(grid, 4, p.size() * 3 / 4, from_gather, TileWrites::AllNeighbours);
-    build_half_lists_from_gather(gather, p.pos, h, from_gather);
+    NeighbourLists consumed = gather;  // (the half lists are made inside it)
+    build_half_lists_from_gather(consumed, p.pos, h, from_gather);
+    from_gather.near.join();  // held by from_gather itself, which is returned
     limit_vector_isa(VectorIsa::avx512);
     return std::tuple{gather, half, from_gather};
   };
