@@ -176,7 +176,9 @@ Setup make_setup(const Config& cfg) {
 }
 
 // Refuse up front what cannot fit: ~200 bytes of fields and scratch per particle plus the
-// neighbour list (4 bytes index + 4 bytes kernel factor per entry) and its block copy.
+// neighbour lists and pair factors. A rough estimate: measured peaks (docs/performance.md, session
+// 25) at 60 neighbours are 850 bytes per particle with adaptive h and leapfrog steps and 1,254 with
+// block steps (1M ring), against 1,220 estimated here.
 void check_memory(std::size_t particles, double neighbours, bool adaptive) {
   // Fields ~200 B, lists + pair factors 12 B per neighbour, adaptive smoothing's candidate lists
   // 4 B per candidate (1.1^D more than neighbours).
