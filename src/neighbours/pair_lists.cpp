@@ -13,7 +13,7 @@ namespace sphdisk {
 
 namespace {
 
-constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_from
+constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_inside
 
 template <int D>
 constexpr int colours(TileWrites writes) {
@@ -239,15 +239,15 @@ std::size_t half_list_inside(const Half& half, NeighbourLists& src, std::size_t 
   return own.size() - first;
 }
 
-// Both builders leave every half list inside its gather list (NeighbourLists::within), where the
-// pair loops read it: no half list is copied or held apart from the gather lists (they were two
-// copies of every pair, and the peak memory of a build). The far lists (few) are joined in tile order.
-
-// From gather lists in particle order (list i: particle i's), read as they lie in memory; the near
-// lists are then numbered in tile order (near list s lies in gather list order[s]).
+// Every half list is left inside its gather list (NeighbourLists::within), where the pair loops
+// read it: no half list is copied or held apart from the gather lists (they were two copies of
+// every pair, and the peak memory of a build). The gather lists are read as they lie in memory,
+// list k being particle order[k]'s where they were searched in tile order (in_tile_order), else
+// particle k's; the near lists are numbered in tile order (near list s lies in gather list s, or
+// in order[s]), and the far lists (few) are joined in tile order.
 template <int D, class WithinTile>
-void half_lists_from(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
-                     WithinTile&& within_tile) {
+void half_lists_inside(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h, PairLists& out,
+                       WithinTile&& within_tile, bool in_tile_order) {
   const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
   const std::size_t n = src.size();
   const std::size_t nblocks = (n + kBlock - 1) / kBlock;
@@ -258,31 +258,35 @@ void half_lists_from(NeighbourLists& src, const std::vector<Vec<D>>& pos, const 
     std::vector<std::vector<std::uint32_t>>().swap(nl->block_count);
   }
   OverwriteVector<std::uint32_t>().swap(near.index);
-  OverwriteVector<const std::uint32_t*> start(n);  // by particle
-  OverwriteVector<std::uint32_t> count(n);
+  near.start.resize(n);
+  OverwriteVector<const std::uint32_t*> particle_start(in_tile_order ? 0 : n);
+  const std::uint32_t** start = in_tile_order ? near.start.data() : particle_start.data();  // by gather list
+  OverwriteVector<std::uint32_t> count(n);  // by gather list
   struct Block {
     std::vector<std::uint32_t> far, far_count;
   };
   std::vector<Block> blocks(nblocks);
   par::for_each(nblocks, [&](std::size_t b) {
     Block B;  // filled locally (vector headers in this thread's cache), then moved in
-    const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
-    B.far_count.resize(i1 - i0);
-    for (std::size_t i = i0; i < i1; ++i) {  // in particle order, as the gather lists lie in memory
+    const std::size_t k0 = b * kBlock, k1 = std::min(n, k0 + kBlock);
+    B.far_count.resize(k1 - k0);
+    for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t far_before = B.far.size();
-      count[i] = static_cast<std::uint32_t>(half_list_inside(half, src, i, static_cast<std::uint32_t>(i), start[i], B.far));
-      B.far_count[i - i0] = static_cast<std::uint32_t>(B.far.size() - far_before);
+      const auto i = static_cast<std::uint32_t>(in_tile_order ? out.order[k] : k);
+      count[k] = static_cast<std::uint32_t>(half_list_inside(half, src, k, i, start[k], B.far));
+      B.far_count[k - k0] = static_cast<std::uint32_t>(B.far.size() - far_before);
     }
     blocks[b] = std::move(B);
   }, "neighbour_search", 1);
 
-  // In tile order: the near lists' offsets and starts, and the far lists joined (where each
-  // particle's far list starts in its block, the offsets, then every list copied in parallel).
-  par::prefix_offsets(n, [&](std::size_t s) { return std::size_t{count[out.order[s]]}; }, near.offsets, "neighbour_search");
-  near.start.resize(n);
-  par::for_each(n, [&](std::size_t s) { near.start[s] = start[out.order[s]]; }, "neighbour_search", 4096);
+  // In tile order: the near lists' offsets and starts, and the far lists joined (where each far
+  // list starts in its block, the offsets, then every list copied in parallel).
+  const auto list_of = [&](std::size_t s) -> std::size_t { return in_tile_order ? s : out.order[s]; };
+  par::prefix_offsets(n, [&](std::size_t s) { return std::size_t{count[list_of(s)]}; }, near.offsets, "neighbour_search");
+  if (!in_tile_order)
+    par::for_each(n, [&](std::size_t s) { near.start[s] = particle_start[out.order[s]]; }, "neighbour_search", 4096);
   near.view_inside(src);
-  OverwriteVector<std::uint32_t> far_at(n);  // first entry of i's far list in its block
+  OverwriteVector<std::uint32_t> far_at(n);  // by gather list
   par::for_each(nblocks, [&](std::size_t b) {
     std::uint32_t far_end = 0;
     for (std::size_t k = 0; k < blocks[b].far_count.size(); ++k) {
@@ -292,56 +296,14 @@ void half_lists_from(NeighbourLists& src, const std::vector<Vec<D>>& pos, const 
   }, "neighbour_search", 1);
   out.far.held_joined();
   par::prefix_offsets(n, [&](std::size_t s) {
-    const std::uint32_t i = out.order[s];
-    return std::size_t{blocks[i / kBlock].far_count[i % kBlock]};
+    const std::size_t k = list_of(s);
+    return std::size_t{blocks[k / kBlock].far_count[k % kBlock]};
   }, out.far.offsets, "neighbour_search");
   resize_snug(out.far.index, out.far.offsets[n]);
   par::for_each(n, [&](std::size_t s) {
-    const std::uint32_t i = out.order[s];
-    std::copy_n(blocks[i / kBlock].far.data() + far_at[i], out.far.count(s), out.far.index.data() + out.far.offsets[s]);
+    const std::size_t k = list_of(s);
+    std::copy_n(blocks[k / kBlock].far.data() + far_at[k], out.far.count(s), out.far.index.data() + out.far.offsets[s]);
   }, "neighbour_search", 1024);
-}
-
-// From gather lists already in tile order (list s: particle out.order[s]'s, the search having
-// visited the particles in that order), read front to back.
-template <int D, class WithinTile>
-void half_lists_in_tile_order(NeighbourLists& src, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
-                              PairLists& out, WithinTile&& within_tile) {
-  const HalfListOf<D, WithinTile> half{out, pos, h, within_tile};
-  const std::size_t n = src.size();
-  constexpr std::size_t kListBlock = NeighbourLists::kBlock;  // blocks as NeighbourLists::list reads them
-  const std::size_t nblocks = (n + kListBlock - 1) / kListBlock;
-  NeighbourLists& near = out.near;
-  std::vector<std::vector<std::uint32_t>>().swap(near.block_index);  // entries of an earlier build: none held now
-  OverwriteVector<std::uint32_t>().swap(near.index);
-  if (near.block_count.size() < nblocks) near.block_count.resize(nblocks);
-  if (out.far.block_index.size() < nblocks) {  // grown, never shrunk (as the search's blocks)
-    out.far.block_index.resize(nblocks);
-    out.far.block_count.resize(nblocks);
-  }
-  near.start.resize(n);
-  par::for_each(nblocks, [&](std::size_t b) {
-    std::vector<std::uint32_t> near_count, far, far_count;  // local headers, the blocks' memory reused
-    near_count.swap(near.block_count[b]);
-    far.swap(out.far.block_index[b]);
-    far_count.swap(out.far.block_count[b]);
-    const std::size_t s0 = b * kListBlock, s1 = std::min(n, s0 + kListBlock);
-    near_count.resize(s1 - s0);
-    far_count.resize(s1 - s0);
-    far.clear();
-    for (std::size_t s = s0; s < s1; ++s) {
-      const std::size_t far_before = far.size();
-      near_count[s - s0] = static_cast<std::uint32_t>(half_list_inside(half, src, s, out.order[s], near.start[s], far));
-      far_count[s - s0] = static_cast<std::uint32_t>(far.size() - far_before);
-    }
-    near_count.swap(near.block_count[b]);
-    far.swap(out.far.block_index[b]);
-    far_count.swap(out.far.block_count[b]);
-  }, "neighbour_search", 1);
-  near.offsets_from_blocks(n);
-  near.view_inside(src);  // (after offsets_from_blocks, which makes them held lists)
-  out.far.offsets_from_blocks(n);
-  out.far.join();  // few (the widest supports): read joined (for_each_pair_list)
 }
 
 template <int D>
@@ -355,8 +317,7 @@ void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<
   // i's list reaches 2 h_i; the margin covers the round-off of the cell coordinates.
   const double within = (1.0 - 1e-9) * out.tile_length;
   const auto within_tile = [&](std::size_t i) { return 2.0 * h[i] < within; };
-  if (in_tile_order) half_lists_in_tile_order<D>(gather, pos, h, out, within_tile);
-  else half_lists_from<D>(gather, pos, h, out, within_tile);
+  half_lists_inside<D>(gather, pos, h, out, within_tile, in_tile_order);
 }
 
 namespace {
