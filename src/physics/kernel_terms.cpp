@@ -71,11 +71,6 @@ KernelSums sums_baseline(const double* dist, const double* mass, double inv_h, s
   return sums<K, D>(dist, mass, inv_h, n, w, dw);
 }
 
-template <class K, int D>
-void terms_baseline(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
-  terms<K, D>(dist, inv_h, n, w, dw);
-}
-
 [[gnu::always_inline]] inline void roots(const double* __restrict dist2, std::size_t n, double* __restrict dist) {
   for (std::size_t k = 0; k < n; ++k) dist[k] = std::sqrt(dist2[k]);
 }
@@ -83,11 +78,6 @@ void terms_baseline(const double* dist, double inv_h, std::size_t n, double* w, 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 [[gnu::target("avx512f")]] void roots_avx512(const double* dist2, std::size_t n, double* dist) { roots(dist2, n, dist); }
 [[gnu::target("avx2")]] void roots_avx2(const double* dist2, std::size_t n, double* dist) { roots(dist2, n, dist); }
-
-template <class K, int D>
-[[gnu::target("avx512f")]] void terms_avx512(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
-  terms<K, D>(dist, inv_h, n, w, dw);
-}
 
 template <class K, int D>
 [[gnu::target("avx512f")]] KernelSums sums_avx512(const double* dist, const double* mass, double inv_h, std::size_t n,
@@ -101,25 +91,9 @@ template <class K, int D>
   return sums<K, D>(dist, mass, inv_h, n, w, dw);
 }
 
-template <class K, int D>
-[[gnu::target("avx2")]] void terms_avx2(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
-  terms<K, D>(dist, inv_h, n, w, dw);
-}
 #endif
 
 }  // namespace
-
-template <class K, int D>
-void kernel_terms(const double* dist, double inv_h, std::size_t n, double* w, double* dw) {
-#ifdef SPHDISK_X86_VECTOR_DISPATCH
-  switch (vector_isa()) {
-    case VectorIsa::avx512: return terms_avx512<K, D>(dist, inv_h, n, w, dw);
-    case VectorIsa::avx2: return terms_avx2<K, D>(dist, inv_h, n, w, dw);
-    case VectorIsa::baseline: break;
-  }
-#endif
-  terms_baseline<K, D>(dist, inv_h, n, w, dw);
-}
 
 template <class K, int D>
 KernelSums kernel_sums(const double* dist, const double* mass, double inv_h, std::size_t n, double* w, double* dw) {
@@ -145,9 +119,6 @@ void square_roots(const double* dist2, std::size_t n, double* dist) {
 }
 
 #define SPHDISK_KERNEL_TERMS(K)                                                                  \
-  template void kernel_terms<K, 1>(const double*, double, std::size_t, double*, double*);      \
-  template void kernel_terms<K, 2>(const double*, double, std::size_t, double*, double*);      \
-  template void kernel_terms<K, 3>(const double*, double, std::size_t, double*, double*);      \
   template KernelSums kernel_sums<K, 1>(const double*, const double*, double, std::size_t, double*, double*); \
   template KernelSums kernel_sums<K, 2>(const double*, const double*, double, std::size_t, double*, double*); \
   template KernelSums kernel_sums<K, 3>(const double*, const double*, double, std::size_t, double*, double*);
