@@ -449,11 +449,10 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
       }
       if (rescan) {
         // No per-particle kernels kept either: each is made from h where needed (the same values).
-        const auto slope = [&p](std::size_t i) { return slope_of(KernelAt<K, D>(p.h[i])); };
-        const auto factor = [&slope](std::uint32_t i) {
-          return [si = slope(i), &slope](std::uint32_t j, double r) { return pair_average_factor<K>(si, slope(j), r); };
+        const auto form = [&p](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
+          factors_from_h<K, D>(p.h[i], p.h.data(), js, r2, F);
         };
-        const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, factor);
+        const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, form);
         pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
         pair_count = scanned.pairs_found();
         return;
@@ -515,8 +514,10 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
     const KernelAt<K, D> kern(h_);
     const auto density = [&](const auto& pairs) { compute_density(p, pairs, kern); };
     if (rescan) {
-      const auto factor = [kern](std::uint32_t) { return [kern](std::uint32_t, double r) { return kern.dW_over_r(r); }; };
-      const ScannedPairs<D, decltype(factor)> scanned(grid_, pairs_lists_, p.h, true, writable_prefix_, factor);
+      const auto form = [kern](std::uint32_t, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
+        for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(kern.dW_over_r(std::sqrt(r2[q])));
+      };
+      const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, true, writable_prefix_, form);
       pair_loops(p, scanned, density);
       pair_count = scanned.pairs_found();
     } else {

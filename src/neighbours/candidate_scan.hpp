@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include "core/vec.hpp"
+#include "neighbours/cell_grid.hpp"
 
 namespace sphdisk {
 
@@ -54,6 +55,16 @@ std::size_t scan_candidates_scalar(const std::uint32_t* js, const Vec<D>* xs, st
     found += static_cast<std::size_t>((dist2 < t.r2) & (j != t.self) & (j < t.limit));
   }
   return found;
+}
+
+// Appends the candidates of a cell grid's slots [s0, s1) that `target` accepts to out, and their
+// squared distances to d2 unless null; returns how many (scan_candidates in 2D, vectorised where the
+// CPU allows; the scalar scan in other dimensions). out and d2 need room for s1 - s0 + kScanSlack.
+template <int D>
+std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const ScanTarget<D>& target,
+                     std::uint32_t* out, double* d2) {
+  if constexpr (D == 2) return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
+  else return scan_candidates_scalar<D>(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
 }
 
 // Where particle i's gather list js[0, n) (in cell order) meets i: its first `count` entries come

@@ -121,16 +121,6 @@ struct CandidateFilter {
   }
 };
 
-// Appends the candidates of slots [s0, s1) that `target` accepts to out, and their squared distances
-// to d2 unless null; returns how many (candidate_scan.hpp: vectorised in 2D where the CPU allows).
-// out and d2 need room for s1 - s0 + kScanSlack.
-template <int D>
-std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const ScanTarget<D>& target,
-                     std::uint32_t* out, double* d2) {
-  if constexpr (D == 2) return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
-  else return scan_candidates_scalar<D>(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
-}
-
 // Lists of particles [first, last) (list k is particle first + k).
 // radius_of(i): the search radius of particle i (one value for all, or one per particle).
 // settle(i, candidates, radius): the radius to keep (<= radius), or a larger one to search again.

@@ -25,6 +25,7 @@
 
 #include "core/vec.hpp"
 #include "neighbours/candidate_ranges.hpp"
+#include "neighbours/candidate_scan.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
@@ -47,14 +48,15 @@ void writable_slot_prefix(const CellGrid<D>& grid, std::size_t writable, std::ve
 // tiles: the tile order of build_tile_order(..., TileWrites::AllNeighbours) over `grid` (its near
 // and far lists unused). h: every grid particle's smoothing length (support 2 h); equal_h: all the
 // same. writable_prefix: writable_slot_prefix's count, so that an unwritable particle skips rows of
-// cells without writable partners. factor_of(i) returns (j, r) -> the kernel-gradient factor of
-// the pair (i, j) at distance r (physics/pair_factors.hpp), for the loops that read factors.
-template <int D, class FactorOf>
+// cells without writable partners. form(i, js, r2, factors) writes the kernel-gradient factors of
+// the pairs (i, js[q]) at squared distances r2[q] (physics/list_factors.hpp), for the loops that
+// read factors.
+template <int D, class Form>
 class ScannedPairs {
  public:
   ScannedPairs(const CellGrid<D>& grid, const PairLists& tiles, const std::vector<double>& h, bool equal_h,
-               const std::vector<std::uint32_t>& writable_prefix, FactorOf factor_of)
-      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), prefix_(writable_prefix), factor_of_(factor_of) {}
+               const std::vector<std::uint32_t>& writable_prefix, Form form)
+      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), prefix_(writable_prefix), form_(form) {}
 
   std::size_t writable() const { return tiles_.writable; }
   void prepare_factors() const {}
@@ -77,57 +79,73 @@ class ScannedPairs {
  private:
   int reach_of(std::size_t i) const { return cells_within(grid_, 2.0 * h_[i]); }
 
-  // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order.
+  // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order:
+  // its candidates within its support scanned row by row (scan_row: vectorised in 2D), each row
+  // range split at i's own slot, so that the candidates before i in cell order come first; of those,
+  // the ones whose own support holds the pair are dropped (they own it).
   template <class F>
   void list_of(std::uint32_t i, bool far, FactorUse use, bool count, F& f) const {
     thread_local std::vector<std::uint32_t> js;
+    thread_local std::vector<double> r2;  // js's squared distances from i
     thread_local std::vector<float> factors;
     const std::size_t m = tiles_.writable;
     const bool i_writable = i < m;
-    const Vec<D> xi = grid_.sorted_pos[tiles_.slot[i]];
-    const double si = 2.0 * h_[i], si2 = si * si;
     const std::uint32_t slot_i = tiles_.slot[i];
+    const Vec<D> xi = grid_.sorted_pos[slot_i];
+    const double si = 2.0 * h_[i];
     const int reach = reach_of(i);
     const bool check_tiles = reach > tiles_.tile_cells;  // else every partner lies in an adjacent tile
     if (far && !check_tiles) return;
     const std::int32_t* tile_i = tiles_.tile.data() + D * i;
-    js.clear();
-    const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
-      if (!i_writable && !prefix_.empty() && prefix_[s1] == prefix_[s0]) return;
-      // Branch-free append: every candidate is written, the end advances only for owned pairs.
-      std::size_t end = js.size();
-      js.resize(end + (s1 - s0));
-      std::uint32_t* out = js.data();
-      for (std::uint32_t s = s0; s < s1; ++s) {
-        const std::uint32_t j = grid_.sorted[s];
-        const double d2 = norm2(xi - grid_.sorted_pos[s]);
-        bool owned = (d2 < si2) & (s != slot_i) & (i_writable | (j < m));
-        if (!equal_h_) {
-          const double sj = 2.0 * h_[j];
-          owned &= (s > slot_i) | (d2 >= sj * sj);  // a partner before i owns the pair if its support covers it
-        }
-        out[end] = j;
-        end += static_cast<std::size_t>(owned);
+    // Every candidate within i's support but i itself; only writable ones unless i is writable.
+    const ScanTarget<D> target{xi, si * si, i, i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m),
+                               static_cast<std::uint32_t>(grid_.sorted.size())};
+    std::size_t n = 0, earlier = 0;  // found; found in slots before i's
+    const auto scan_range = [&](std::uint32_t s0, std::uint32_t s1) {
+      if (s0 >= s1 || (!i_writable && !prefix_.empty() && prefix_[s1] == prefix_[s0])) return;
+      if (js.size() < n + (s1 - s0) + kScanSlack) {
+        js.resize(2 * (n + (s1 - s0) + kScanSlack));
+        r2.resize(js.size());
       }
-      js.resize(end);
+      n += scan_row<D>(grid_, s0, s1, target, js.data() + n, r2.data() + n);
+      if (s1 <= slot_i) earlier = n;  // the ranges come in slot order
+    };
+    const auto scan = [&](std::uint32_t s0, std::uint32_t s1) {
+      if (s0 <= slot_i && slot_i < s1) {
+        scan_range(s0, slot_i);
+        scan_range(slot_i + 1, s1);
+      } else {
+        scan_range(s0, s1);
+      }
     };
     if (equal_h_) for_each_candidate_range<D>(grid_, xi, si, scan, &slot_i);
     else for_each_candidate_range<D>(grid_, xi, si, scan);
+    std::size_t kept = 0;
+    const auto keep_if = [&](std::size_t q, bool keep) {  // branch-free, order kept
+      js[kept] = js[q];
+      r2[kept] = r2[q];
+      kept += static_cast<std::size_t>(keep);
+    };
+    if (!equal_h_) {  // a partner before i owns the pair if its support covers it
+      for (std::size_t q = 0; q < earlier; ++q) {
+        const double sj = 2.0 * h_[js[q]];
+        keep_if(q, r2[q] >= sj * sj);
+      }
+      for (std::size_t q = earlier; q < n; ++q) keep_if(q, true);
+      n = kept;
+    }
     if (check_tiles) {  // keep the pairs of this pass only
-      std::size_t keep = 0;
-      for (const std::uint32_t j : js)
-        if (tiles_adjacent<D>(tile_i, tiles_.tile.data() + D * j) != far) js[keep++] = j;
-      js.resize(keep);
+      kept = 0;
+      for (std::size_t q = 0; q < n; ++q) keep_if(q, tiles_adjacent<D>(tile_i, tiles_.tile.data() + D * js[q]) != far);
+      n = kept;
     }
-    if (js.empty()) return;
-    factors.resize(js.size());
-    if (use == FactorUse::Read) {
-      const auto factor = factor_of_(i);
-      for (std::size_t q = 0; q < js.size(); ++q)
-        factors[q] = static_cast<float>(factor(js[q], norm(xi - grid_.sorted_pos[tiles_.slot[js[q]]])));
-    }
-    if (count) found_ += js.size();
-    f(i, std::span<const std::uint32_t>(js.data(), js.size()), std::span<float>(factors.data(), factors.size()));
+    if (n == 0) return;
+    if (factors.size() < n) factors.resize(n + n / 4);
+    const std::span<const std::uint32_t> list(js.data(), n);
+    const std::span<float> list_factors(factors.data(), n);
+    if (use == FactorUse::Read) form_(i, list, r2.data(), list_factors);
+    if (count) found_ += n;
+    f(i, list, list_factors);
   }
 
   const CellGrid<D>& grid_;
@@ -135,7 +153,7 @@ class ScannedPairs {
   const std::vector<double>& h_;
   bool equal_h_;
   const std::vector<std::uint32_t>& prefix_;
-  FactorOf factor_of_;
+  Form form_;
   mutable std::atomic<std::size_t> found_{0};
   mutable bool counted_ = false;
 };

@@ -7,6 +7,7 @@
 // gathers take eight partners at a time and the loop runs eight-wide; with AVX2 the same code as the
 // baseline runs four-wide; the same operations on each element, without floating-point contraction
 // (list_factors.cpp), so the same bits on every path.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -41,6 +42,41 @@ template <class K, int D>
 template <class K>
 void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<float> factors);
+
+// The factors of the pairs (i, js[q]) at known squared distances r2[q], each partner's kernel slope
+// made from its h as slope_of(KernelAt) makes it (the same values as form_list_factors' from slopes
+// bound from the same h): for the pair loops that search their pairs anew (neighbours/pair_scan.hpp)
+// and keep no per-particle slopes. The partners' h are gathered first, so that the loop of
+// divisions and square roots runs on contiguous data; it runs over whole vectors of eight (the
+// lanes past the list's end on i's own h and stale squared distances: r2 needs room for
+// js.size() + 8 finite values) into scratch, then the list's factors are copied out.
+template <class K, int D>
+[[gnu::always_inline]] inline void factors_from_h_scalar(double h_i, const double* h, std::span<const std::uint32_t> js,
+                                                         const double* r2, std::span<float> factors) {
+  thread_local std::vector<double> h_buffer;
+  thread_local std::vector<float> factor_buffer;
+  const std::size_t n = js.size(), whole = (n + 7) & ~std::size_t{7};
+  double* hj = scratch_for(h_buffer, whole);
+  float* F = scratch_for(factor_buffer, whole);
+  for (std::size_t q = 0; q < n; ++q) hj[q] = h[js[q]];
+  for (std::size_t q = n; q < whole; ++q) hj[q] = h_i;
+  const KernelSlope si = slope_of(KernelAt<K, D>(h_i));
+  for (std::size_t q = 0; q < whole; ++q)
+    F[q] = static_cast<float>(pair_average_factor<K>(si, slope_of(KernelAt<K, D>(hj[q])), std::sqrt(r2[q])));
+  std::copy_n(F, n, factors.data());
+}
+
+// 2D: dispatched (list_factors.cpp; instantiated for the kernels of kernels.hpp).
+template <class K>
+void factors_from_h_2d(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
+                       std::span<float> factors);
+
+template <class K, int D>
+void factors_from_h(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
+                    std::span<float> factors) {
+  if constexpr (D == 2) factors_from_h_2d<K>(h_i, h, js, r2, factors);
+  else factors_from_h_scalar<K, D>(h_i, h, js, r2, factors);
+}
 
 // The second loop: on contiguous squared distances, so that it vectorises.
 template <class K, int D>

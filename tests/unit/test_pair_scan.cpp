@@ -48,8 +48,10 @@ struct ScanSetup {
   // g(pairs) with the ScannedPairs of this set (made anew for each call, as for each evaluation).
   template <class G>
   void with_pairs(G&& g) const {
-    const auto factor_of = [](std::uint32_t i) { return [i](std::uint32_t j, double r) { return factor(i, j, r); }; };
-    const ScannedPairs<D, decltype(factor_of)> pairs(grid, tiles, p.h, equal_h, prefix, factor_of);
+    const auto form = [](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
+      for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(factor(i, js[q], std::sqrt(r2[q])));
+    };
+    const ScannedPairs<D, decltype(form)> pairs(grid, tiles, p.h, equal_h, prefix, form);
     g(pairs);
   }
   template <class F>
@@ -102,7 +104,7 @@ void check_every_pair_once(Particles<D> particles, double h0, bool equal_h, std:
   }
   EXPECT_EQ(got, expected);
   EXPECT_EQ(s.pairs_found_after_two_loops(), expected.size());
-  EXPECT_TRUE(factors_right) << "FactorUse::Read must hand over factor_of(i, j, r) of each pair";
+  EXPECT_TRUE(factors_right) << "FactorUse::Read must hand over the factors formed at each pair's distance";
   if (expect_far) EXPECT_GT(far, 0u);
   else EXPECT_EQ(far, 0u);
 }
