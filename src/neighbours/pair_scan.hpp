@@ -13,9 +13,10 @@
 // neighbours (TileWrites::AllNeighbours, pair_lists.hpp). Pairs whose tiles are not adjacent (a
 // support wider than a tile) are evaluated after all colours, in tile order. Each particle thus gets
 // its pair terms in an order fixed by positions, IDs, smoothing lengths and the lattice: the same
-// bits for any thread or rank count (not the same bits as the stored lists, whose pairs are owned
-// and summed differently). With one smoothing length for all particles the owner is always the
-// first, and only the half of the stencil after it is searched.
+// bits for any thread or rank count. With adaptive h these are also the stored lists' owners,
+// schedule and partner order, so the two give the same bits (test_pair_scan.cpp); with one smoothing
+// length for all particles the owner is always the first, only the half of the stencil after it is
+// searched, and the stored lists' forward-only schedule orders the terms differently (round-off).
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -66,14 +67,18 @@ class ScannedPairs {
   // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs.
   template <class F>
   void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
-    const bool count = !counted_;  // one atomic add per list in the first loop only
-    counted_ = true;
+    const bool count = !counted_;  // in the first loop only: one atomic add per tile, not per list
+    counted_ = true;                // (threads adding per list contended for the counter's cache line)
     par::for_each_coloured(tiles_.colour_start, [&](std::size_t c) {
       const std::uint32_t t = tiles_.tiles_by_colour[c];
-      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) list_of(tiles_.order[s], false, use, count, f);
+      std::size_t pairs = 0;
+      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) pairs += list_of(tiles_.order[s], false, use, f);
+      if (count) found_ += pairs;
     }, trace_label);
+    std::size_t far_pairs = 0;
     for (const std::uint32_t i : tiles_.order)
-      if (reach_of(i) > tiles_.tile_cells) list_of(i, true, use, count, f);
+      if (reach_of(i) > tiles_.tile_cells) far_pairs += list_of(i, true, use, f);
+    if (count) found_ += far_pairs;
   }
 
  private:
@@ -82,9 +87,9 @@ class ScannedPairs {
   // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order:
   // its candidates within its support scanned row by row (scan_row: vectorised in 2D), each row
   // range split at i's own slot, so that the candidates before i in cell order come first; of those,
-  // the ones whose own support holds the pair are dropped (they own it).
+  // the ones whose own support holds the pair are dropped (they own it). Returns how many pairs.
   template <class F>
-  void list_of(std::uint32_t i, bool far, FactorUse use, bool count, F& f) const {
+  std::size_t list_of(std::uint32_t i, bool far, FactorUse use, F& f) const {
     thread_local std::vector<std::uint32_t> js;
     thread_local std::vector<double> r2;  // js's squared distances from i
     thread_local std::vector<float> factors;
@@ -95,7 +100,7 @@ class ScannedPairs {
     const double si = 2.0 * h_[i];
     const int reach = reach_of(i);
     const bool check_tiles = reach > tiles_.tile_cells;  // else every partner lies in an adjacent tile
-    if (far && !check_tiles) return;
+    if (far && !check_tiles) return 0;
     const std::int32_t* tile_i = tiles_.tile.data() + D * i;
     // Every candidate within i's support but i itself; only writable ones unless i is writable.
     const ScanTarget<D> target{xi, si * si, i, i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m),
@@ -139,13 +144,13 @@ class ScannedPairs {
       for (std::size_t q = 0; q < n; ++q) keep_if(q, tiles_adjacent<D>(tile_i, tiles_.tile.data() + D * js[q]) != far);
       n = kept;
     }
-    if (n == 0) return;
+    if (n == 0) return 0;
     if (factors.size() < n) factors.resize(n + n / 4);
     const std::span<const std::uint32_t> list(js.data(), n);
     const std::span<float> list_factors(factors.data(), n);
     if (use == FactorUse::Read) form_(i, list, r2.data(), list_factors);
-    if (count) found_ += n;
     f(i, list, list_factors);
+    return n;
   }
 
   const CellGrid<D>& grid_;
