@@ -232,7 +232,7 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   if (domain_) refresh_ghosts(p, GhostStage::SmoothingLength);
   ScopedPhase t(timers_, "neighbour_search");
   if (storage_ == PairStorage::Rescan) {
-    scan_order(active);
+    scan_order(p.pos, active);
     return true;
   }
   if (active < p.size()) {
@@ -452,7 +452,7 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
         const auto form = [&p](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
           factors_from_h<K, D>(p.h[i], p.h.data(), js, r2, F);
         };
-        const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, false, writable_prefix_, form);
+        const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, false, writable_filter_, form);
         pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
         pair_count = scanned.pairs_found();
         return;
@@ -500,7 +500,7 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
     if (!keep) {
       ScopedPhase t(timers_, "neighbour_search");
       if (rescan) {
-        scan_order(active);
+        scan_order(p.pos, active);
       } else {
         // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
@@ -517,7 +517,7 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
       const auto form = [kern](std::uint32_t, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
         for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(kern.dW_over_r(std::sqrt(r2[q])));
       };
-      const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, true, writable_prefix_, form);
+      const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, true, writable_filter_, form);
       pair_loops(p, scanned, density);
       pair_count = scanned.pairs_found();
     } else {
@@ -557,9 +557,9 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
 }
 
 template <int D>
-void RateEvaluator<D>::scan_order(std::size_t writable) {
+void RateEvaluator<D>::scan_order(const std::vector<Vec<D>>& pos, std::size_t writable) {
   build_tile_order(grid_, tile_cells(), writable, pairs_lists_, TileWrites::AllNeighbours);
-  writable_slot_prefix(grid_, writable, writable_prefix_);
+  writable_filter_.build(grid_, pos, writable);
 }
 
 // Tiles of the pair schedule span the supports of all but the widest particles.
@@ -575,7 +575,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity()) * sizeof(double);
-  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_prefix_.capacity() * sizeof(std::uint32_t);
+  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_filter_.bytes();
   scratch += predicted_h_.capacity() * sizeof(double);
   return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes() + gather_copy_.bytes()},
           {"involved_particles", involved_.bytes() + members_.capacity() * sizeof(std::uint32_t)},

@@ -13,6 +13,7 @@
 #include "core/particles.hpp"
 #include "core/timers.hpp"
 #include "domain/particle_domain.hpp"
+#include "neighbours/candidate_filter.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/list_reuse.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -141,7 +142,7 @@ class RateEvaluator {
   template <class Pairs, class Density>
   void pair_loops(Particles<D>& p, const Pairs& pairs, Density&& density);
   // Rescan: the tile order for pairs searched anew, and which grid slots hold writable particles.
-  void scan_order(std::size_t writable);
+  void scan_order(const std::vector<Vec<D>>& pos, std::size_t writable);
   bool reusable(std::size_t active, std::size_t n) const {
     return list_skin_ > 0 && !domain_ && active == n && storage_ == PairStorage::Stored && !whole_.set;
   }
@@ -165,7 +166,7 @@ class RateEvaluator {
                            // with a list skin, also the pairs within it
   PairLists interacting_;  // with a list skin: pairs_lists_ without the pairs beyond the supports now
   const PairLists* loop_lists_ = &pairs_lists_;  // the lists the pair loops read
-  std::vector<std::uint32_t> writable_prefix_;  // Rescan: writable particles before each grid slot
+  CandidateFilter writable_filter_;  // Rescan: where the writable particles are (candidate_filter.hpp)
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
   std::vector<GradientSums<D>> gradient_sums_;

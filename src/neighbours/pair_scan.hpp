@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/vec.hpp"
+#include "neighbours/candidate_filter.hpp"
 #include "neighbours/candidate_ranges.hpp"
 #include "neighbours/candidate_scan.hpp"
 #include "neighbours/cell_grid.hpp"
@@ -33,31 +34,19 @@
 
 namespace sphdisk {
 
-// For each grid slot s, the number of particles below `writable` in the slots before it (size n + 1):
-// what ScannedPairs reads to skip rows of cells without writable partners. Empty when every
-// particle is writable.
-template <int D>
-void writable_slot_prefix(const CellGrid<D>& grid, std::size_t writable, std::vector<std::uint32_t>& prefix) {
-  const std::size_t n = grid.sorted.size();
-  prefix.clear();
-  if (writable >= n) return;
-  prefix.resize(n + 1);
-  prefix[0] = 0;
-  for (std::size_t s = 0; s < n; ++s) prefix[s + 1] = prefix[s] + (grid.sorted[s] < writable ? 1u : 0u);
-}
-
 // tiles: the tile order of build_tile_order(..., TileWrites::AllNeighbours) over `grid` (its near
 // and far lists unused). h: every grid particle's smoothing length (support 2 h); equal_h: all the
-// same. writable_prefix: writable_slot_prefix's count, so that an unwritable particle skips rows of
-// cells without writable partners. form(i, js, r2, factors) writes the kernel-gradient factors of
+// same. writable: CandidateFilter::build over `grid` for tiles.writable, so that an unwritable
+// particle without writable particles within reach is skipped before its rows are formed, and skips
+// rows of cells without writable partners. form(i, js, r2, factors) writes the kernel-gradient factors of
 // the pairs (i, js[q]) at squared distances r2[q] (physics/list_factors.hpp), for the loops that
 // read factors.
 template <int D, class Form>
 class ScannedPairs {
  public:
   ScannedPairs(const CellGrid<D>& grid, const PairLists& tiles, const std::vector<double>& h, bool equal_h,
-               const std::vector<std::uint32_t>& writable_prefix, Form form)
-      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), prefix_(writable_prefix), form_(form) {}
+               const CandidateFilter& writable, Form form)
+      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), writable_(writable), form_(form) {}
 
   std::size_t writable() const { return tiles_.writable; }
   void prepare_factors() const {}
@@ -101,13 +90,17 @@ class ScannedPairs {
     const int reach = reach_of(i);
     const bool check_tiles = reach > tiles_.tile_cells;  // else every partner lies in an adjacent tile
     if (far && !check_tiles) return 0;
+    // An unwritable particle pairs only with writable ones (in block steps most have none near).
+    const std::vector<std::uint32_t>& prefix = writable_.slot_prefix;
+    const bool filtered = !i_writable && !prefix.empty();
+    if (filtered && !writable_.any_within(grid_, xi, si)) return 0;
     const std::int32_t* tile_i = tiles_.tile.data() + D * i;
     // Every candidate within i's support but i itself; only writable ones unless i is writable.
     const ScanTarget<D> target{xi, si * si, i, i_writable ? UINT32_MAX : static_cast<std::uint32_t>(m),
                                static_cast<std::uint32_t>(grid_.sorted.size())};
     std::size_t n = 0, earlier = 0;  // found; found in slots before i's
     const auto scan_range = [&](std::uint32_t s0, std::uint32_t s1) {
-      if (s0 >= s1 || (!i_writable && !prefix_.empty() && prefix_[s1] == prefix_[s0])) return;
+      if (s0 >= s1 || (filtered && prefix[s1] == prefix[s0])) return;
       if (js.size() < n + (s1 - s0) + kScanSlack) {
         js.resize(2 * (n + (s1 - s0) + kScanSlack));
         r2.resize(js.size());
@@ -157,7 +150,7 @@ class ScannedPairs {
   const PairLists& tiles_;
   const std::vector<double>& h_;
   bool equal_h_;
-  const std::vector<std::uint32_t>& prefix_;
+  const CandidateFilter& writable_;
   Form form_;
   mutable std::atomic<std::size_t> found_{0};
   mutable bool counted_ = false;

@@ -35,13 +35,13 @@ struct ScanSetup {
   Particles<D> p;
   CellGrid<D> grid;
   PairLists tiles;
-  std::vector<std::uint32_t> prefix;
+  CandidateFilter writable_filter;
   bool equal_h;
   ScanSetup(Particles<D> particles, double h0, bool equal, std::size_t writable, int tile_cells)
       : p(std::move(particles)), equal_h(equal) {
     build_cell_grid(p.pos, p.id, h0, grid);
     build_tile_order(grid, tile_cells, writable, tiles, TileWrites::AllNeighbours);
-    writable_slot_prefix(grid, writable, prefix);
+    writable_filter.build(grid, p.pos, writable);
   }
   // A factor that tells the pair apart from others (to check what FactorUse::Read hands over).
   static double factor(std::uint32_t i, std::uint32_t j, double r) { return r + 1e-3 * (i + j); }
@@ -51,7 +51,7 @@ struct ScanSetup {
     const auto form = [](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
       for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(factor(i, js[q], std::sqrt(r2[q])));
     };
-    const ScannedPairs<D, decltype(form)> pairs(grid, tiles, p.h, equal_h, prefix, form);
+    const ScannedPairs<D, decltype(form)> pairs(grid, tiles, p.h, equal_h, writable_filter, form);
     g(pairs);
   }
   template <class F>
