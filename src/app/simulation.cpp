@@ -373,6 +373,7 @@ class Runner {
        << ", \"involved_widenings\": " << rates_.involved_widenings()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
+    os << ", \"integrator\": " << integrator_->bytes();
     os << "}"
        << ", \"timers\": " << timers_.json().substr(0, timers_.json().size() - 1) << "}";
     const std::vector<std::string> all = domain_.comm().gather_to_root(os.str());

@@ -127,6 +127,11 @@ class BlockLeapfrog final : public Integrator<D> {
     return cycle;
   }
 
+  std::size_t bytes() const override {
+    return (dt_.capacity() + u_half_.capacity()) * sizeof(double) + (start_.capacity() + length_.capacity()) * sizeof(std::uint64_t) +
+           v_kick_.capacity() * sizeof(Vec<D>) + order_.capacity() * sizeof(std::uint32_t);
+  }
+
  private:
   void open_step(const Particles<D>& p, std::size_t i, double tick, bool energy) {
     const double half = 0.5 * static_cast<double>(length_[i]) * tick;

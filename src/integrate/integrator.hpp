@@ -36,6 +36,8 @@ class Integrator {
   // is the binding limit, so outputs fall on their times).
   virtual double step(Particles<D>& p, double dt_cap) = 0;
   virtual std::size_t rejected_steps() const { return 0; }
+  // Memory the integrator holds between steps beyond the particles (capacities, bytes; ranks.json).
+  virtual std::size_t bytes() const { return 0; }
   // State the integrator carries between steps beyond the particles (checkpointed).
   virtual std::vector<double> state() const { return {}; }
   virtual void set_state(const std::vector<double>& s) { (void)s; }

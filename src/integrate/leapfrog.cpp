@@ -69,6 +69,8 @@ class Leapfrog final : public Integrator<D> {
     return dt;
   }
 
+  std::size_t bytes() const override { return v_half_.capacity() * sizeof(Vec<D>) + u_half_.capacity() * sizeof(double); }
+
  private:
   IntegratorParams params_;
   RateEvaluator<D>& rates_;

@@ -84,6 +84,12 @@ class EmbeddedRungeKutta final : public Integrator<D> {
   }
 
   std::size_t rejected_steps() const override { return rejected_; }
+  std::size_t bytes() const override {
+    std::size_t b = (x0_.capacity() + v0_.capacity() + a0_.capacity()) * sizeof(Vec<D>) +
+                    (u0_.capacity() + du0_.capacity()) * sizeof(double);
+    for (const auto& k : k_) b += (k.dx.capacity() + k.dv.capacity()) * sizeof(Vec<D>) + k.du.capacity() * sizeof(double);
+    return b;
+  }
   std::vector<double> state() const override { return {dt_next_, static_cast<double>(rejected_)}; }
   void set_state(const std::vector<double>& s) override {
     if (s.size() != 2) throw UserError("checkpoint: the Runge-Kutta integrator state must hold 2 values");
