@@ -229,3 +229,30 @@ TEST(Integrators, BlockTimestepsAreAccurateAndUpdateFewerParticles) {
   EXPECT_LT(block_updates, global_updates * 3 / 4);
   EXPECT_GT(e_block, 0.0);
 }
+
+// The integrator's own per-particle state is counted (ranks.json memory_bytes.integrator): after a
+// step, at least the arrays each scheme keeps per particle whatever the equation of state (leapfrog:
+// the half-step velocity; block steps: the velocity after the opening kick and each step's start,
+// length and dt; Runge-Kutta 4(5): the initial positions, velocities and accelerations and six
+// stages' rates of x and v).
+TEST(Integrators, ReportTheMemoryOfTheirPerParticleState) {
+  const RingSetup s = small_ring(400, 1e-3);
+  PhysicsParams phys;
+  phys.nu = 1e-3;
+  PhaseTimers timers;
+  const std::pair<Scheme, std::size_t> expected[] = {
+      {Scheme::Leapfrog, sizeof(Vec<2>)},
+      {Scheme::Block, sizeof(Vec<2>) + sizeof(double) + 2 * sizeof(std::uint64_t)},
+      {Scheme::RK45, 3 * sizeof(Vec<2>) + 6 * 2 * sizeof(Vec<2>)}};
+  for (const auto& [scheme, per_particle] : expected) {
+    Particles<2> p = make_ring(s);
+    RateEvaluator<2> rates(KernelType::Cubic, ring_smoothing_length(s, 40), phys, timers);
+    IntegratorParams ip;
+    ip.scheme = scheme;
+    auto integ = make_integrator<2>(ip, rates);
+    integ->start(p);
+    integ->step(p, 1e-3);
+    EXPECT_GE(integ->bytes(), per_particle * p.size()) << static_cast<int>(scheme);
+    EXPECT_LT(integ->bytes(), 4 * per_particle * p.size()) << static_cast<int>(scheme);
+  }
+}
