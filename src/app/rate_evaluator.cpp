@@ -211,6 +211,7 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
                                          tile_ordered ? pairs_lists_.order.data() : nullptr);
     }
     smoothing_length_sums_ += total_of(solve_sums_);
+    if (lean() && !domain_) release_memory(search_radius_, solve_sums_);
     if (!domain_) break;
     bool again = false;
     for (std::size_t i = 0; i < owned; ++i) {
@@ -358,6 +359,15 @@ bool RateEvaluator<D>::rebuild_due() const {
   if (since_build_ >= 2)  // the bound grew over since_build_ - 1 steps; one more step
     return used_ * static_cast<double>(since_build_) / static_cast<double>(since_build_ - 1) >= 1.0;
   return last_interval_ == 1;
+}
+
+template <int D>
+void RateEvaluator<D>::release_rebuilt_memory() {
+  reuse_.forget();  // the next evaluation builds its lists (no list to reuse is left)
+  release_memory(grid_, candidates_, gather_copy_, search_radius_, slopes_, pairs_lists_, interacting_,
+                 writable_filter_, factors_, gradient_sums_, heating_scratch_, force_scratch_.inv_rho,
+                 force_scratch_.p_over_rho2, solve_sums_, kept_, listed_h_, involved_, members_, predicted_h_);
+  loop_lists_ = &pairs_lists_;
 }
 
 template <int D>
@@ -546,6 +556,7 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   {
     ScopedPhase t(timers_, "velocity_gradient");
     compute_viscous_stress(p, pairs, phys_, gradient_sums_);
+    if (lean()) release_memory(gradient_sums_);
   }
   refresh_ghosts(p, GhostStage::Stress);
   if (phys_.force_correction) {
@@ -554,6 +565,7 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   }
   ScopedPhase t(timers_, "forces");
   compute_accelerations(p, pairs, phys_, force_scratch_, gravity_);
+  if (lean()) release_memory(force_scratch_.inv_rho, force_scratch_.p_over_rho2);
 }
 
 template <int D>

@@ -84,12 +84,21 @@ class RateEvaluator {
   // linearly in the evaluations since the build, reaches the slack; or the last lists served a
   // single evaluation.
   bool rebuild_due() const;
+  // Frees what every evaluation builds anew (cells, lists, tile order, scratch) and forgets lists
+  // kept for reuse: called before the particles are reordered, which would force all of it to be
+  // rebuilt anyway. The reorder's copies of the fields then do not come on top of it (the peak
+  // memory of a run, docs/performance.md). The next evaluation allocates it again.
+  void release_rebuilt_memory();
   std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
 
   // Whether the pair loops read stored lists or search their pairs anew (PairStorage). Rescan
   // keeps no lists, so list reuse (set_list_skin) does not apply to it.
   void set_pair_storage(PairStorage s) { storage_ = s; }
   PairStorage pair_storage() const { return storage_; }
+  // Rescan is the mode for runs that would not fit otherwise: its per-particle scratch (gradient
+  // sums, force factors, search radii) is also freed after each use, so that the pages come fresh
+  // for each evaluation but no two of these arrays are held at once (the peak memory).
+  bool lean() const { return storage_ == PairStorage::Rescan; }
 
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
@@ -102,7 +111,8 @@ class RateEvaluator {
   // Each interacting pair once (pair_lists.hpp), as the pair loops of the last evaluation read them.
   const PairLists& pair_lists() const { return *loop_lists_; }
   const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
-  // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp).
+  // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp);
+  // empty after a lean() evaluation.
   const std::vector<GradientSums<D>>& gradient_sums() const { return gradient_sums_; }
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // pairs evaluated (each once per pair loop), summed over evaluations

@@ -117,8 +117,13 @@ struct Particles {
 #undef SPHDISK_VISIT_FIELD_WITH
   }
 
+  // Exact when the fields are first made (initial conditions, a checkpoint read); later growth
+  // (ghosts appended) keeps a margin.
   void resize(std::size_t n) {
-    for_each_field([n](const FieldInfo&, auto& v) { resize_snug(v, n); });
+    for_each_field([n](const FieldInfo&, auto& v) {
+      if (v.capacity() == 0) v.reserve(n);
+      resize_snug(v, n);
+    });
   }
 
   // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices),

@@ -14,12 +14,32 @@ void resize_snug(std::vector<T, A>& v, std::size_t n) {
   v.resize(n);
 }
 
-// resize_snug that never shrinks, for per-particle scratch of which each evaluation uses a prefix
-// of changing length (the entries past it are stale): after a shrink, every growth zero-filled the
-// new entries on one thread while the others waited (block timesteps' partial evaluations).
+// resize_snug for arrays of which every entry is written before it is read (scratch, rebuilt
+// lists): when it must grow, the old buffer is freed before the new one is allocated, so the two
+// are never held at once (a copy of the old entries at the peak of a run's memory) and nothing is
+// copied.
+template <class T, class A>
+void renew_snug(std::vector<T, A>& v, std::size_t n) {
+  if (n > v.capacity()) {
+    v = std::vector<T, A>();
+    v.reserve(n + n / 16);
+  }
+  v.resize(n);
+}
+
+// Frees the memory of each argument (a vector, or a struct of them), leaving it empty.
+template <class... T>
+void release_memory(T&... v) {
+  ((v = T{}), ...);
+}
+
+// renew_snug that never shrinks, for per-particle scratch of which each evaluation uses a prefix
+// of changing length (the entries past it are stale, all of them after a growth): after a shrink,
+// every growth zero-filled the new entries on one thread while the others waited (block
+// timesteps' partial evaluations).
 template <class T, class A>
 void grow_snug(std::vector<T, A>& v, std::size_t n) {
-  if (v.size() < n) resize_snug(v, n);
+  if (v.size() < n) renew_snug(v, n);
 }
 
 // A per-thread scratch buffer of at least n entries for one list's values: it only ever grows, so

@@ -45,6 +45,8 @@ namespace {
 
 constexpr int kMaxBins = 20;  // steps down to Delta / 2^20
 constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
+using Ticks = std::uint32_t;  // a step's start and length (4 bytes per particle each, not 8)
+static_assert(kMaxBins < 32, "a cycle's ticks fit in Ticks");
 constexpr std::size_t kDriftBlock = 1024;  // particles per work unit of the drift
 
 // The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
@@ -69,25 +71,31 @@ class BlockLeapfrog final : public Integrator<D> {
     const PhysicsParams& phys = rates_.physics();
     const TimestepFactors& f = params_.factors;
     const std::size_t n = p.size();
-    dt_.resize(n);
-    par::for_each(n, [&](std::size_t i) { dt_[i] = particle_timestep(p, i, phys, f); }, "integration");
-    const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt_[i]; }));
-    const double largest = rates_.global_max(
-        par::reduce(n, 0.0, [&](std::size_t i) { return dt_[i]; }, [](double a, double b) { return std::max(a, b); }));
-    const double cycle = std::min({dt_cap, params_.dt_max, largest, smallest * static_cast<double>(kTicks)});
-    const double tick = cycle / static_cast<double>(kTicks);
-
-    start_.assign(n, 0);
-    length_.resize(n);
-    v_kick_.resize(n);
-    u_half_.resize(n);
     const bool energy = phys.evolve_energy;
+    double cycle = 0, tick = 0;
     {
+      // Each particle's timestep is needed only to choose its step length: not kept (8 bytes per
+      // particle less at the run's peak memory).
+      std::vector<double> dt(n);
+      par::for_each(n, [&](std::size_t i) { dt[i] = particle_timestep(p, i, phys, f); }, "integration");
+      const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt[i]; }));
+      const double largest = rates_.global_max(
+          par::reduce(n, 0.0, [&](std::size_t i) { return dt[i]; }, [](double a, double b) { return std::max(a, b); }));
+      cycle = std::min({dt_cap, params_.dt_max, largest, smallest * static_cast<double>(kTicks)});
+      tick = cycle / static_cast<double>(kTicks);
+
+      start_.assign(n, 0);
+      length_.resize(n);
+      v_kick_.resize(n);
+      u_half_.resize(energy ? n : 0);  // u is not integrated without an energy equation
       ScopedPhase timer(rates_.timers(), "integration");
       par::for_each(n, [&](std::size_t i) {
-        length_[i] = step_ticks(dt_[i], tick, 0);
+        length_[i] = static_cast<Ticks>(step_ticks(dt[i], tick, 0));
         open_step(p, i, tick, energy);
       }, "integration");
+    }
+    {
+      ScopedPhase timer(rates_.timers(), "integration");
       sort_by_length(p, n);
     }
     for (std::uint64_t now = 0; now < kTicks;) {
@@ -117,8 +125,8 @@ class BlockLeapfrog final : public Integrator<D> {
         p.vel[i] = v_kick_[i] + p.acc[i] * half;  // closing kick
         if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
         if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
-        start_[i] = next;
-        length_[i] = step_ticks(particle_timestep(p, i, phys, f), tick, next);
+        start_[i] = static_cast<Ticks>(next);
+        length_[i] = static_cast<Ticks>(step_ticks(particle_timestep(p, i, phys, f), tick, next));
         open_step(p, i, tick, energy);
       }, "integration");
       if (next != kTicks) sort_by_length(p, active);
@@ -128,7 +136,7 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   std::size_t bytes() const override {
-    return (dt_.capacity() + u_half_.capacity()) * sizeof(double) + (start_.capacity() + length_.capacity()) * sizeof(std::uint64_t) +
+    return u_half_.capacity() * sizeof(double) + (start_.capacity() + length_.capacity()) * sizeof(Ticks) +
            v_kick_.capacity() * sizeof(Vec<D>) + order_.capacity() * sizeof(std::uint32_t);
   }
 
@@ -172,13 +180,12 @@ class BlockLeapfrog final : public Integrator<D> {
     par::permute_prefix(start_, order_, "integration");
     par::permute_prefix(length_, order_, "integration");
     par::permute_prefix(v_kick_, order_, "integration");
-    par::permute_prefix(u_half_, order_, "integration");
+    if (!u_half_.empty()) par::permute_prefix(u_half_, order_, "integration");
   }
 
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
-  std::vector<double> dt_;
-  std::vector<std::uint64_t> start_, length_;  // ticks
+  std::vector<Ticks> start_, length_;
   std::vector<Vec<D>> v_kick_;  // velocity after the opening kick, moved in the point-mass field since
   std::vector<double> u_half_;
   std::vector<std::uint32_t> order_;

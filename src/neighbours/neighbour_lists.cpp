@@ -210,7 +210,7 @@ void NeighbourLists::offsets_from_blocks(std::size_t n) {
 void NeighbourLists::join() {
   if (joined) return;
   const std::size_t n = size();
-  resize_snug(index, total());
+  renew_snug(index, total());
   par::for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
     if (within) {

@@ -111,9 +111,9 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
     for_each_tile_row(grid, L, t, [&](std::uint32_t s0, std::uint32_t s1) { count += s1 - s0; });
     out.tile_start[t + 1] = out.tile_start[t] + count;
   }
-  resize_snug(out.order, n);
-  resize_snug(out.slot, n);
-  resize_snug(out.tile, D * n);
+  renew_snug(out.order, n);
+  renew_snug(out.slot, n);
+  renew_snug(out.tile, D * n);
   par::for_each(ntiles, [&](std::size_t t) {
     std::size_t s = out.tile_start[t];
     for_each_tile_row(grid, L, t, [&](std::uint32_t s0, std::uint32_t s1) {

@@ -160,7 +160,7 @@ struct StoredPairs {
   OverwriteVector<float>& factors;  // physics/pair_factors.hpp
 
   std::size_t writable() const { return lists.writable; }
-  void prepare_factors() const { resize_snug(factors, lists.total()); }
+  void prepare_factors() const { renew_snug(factors, lists.total()); }
   template <class F>
   void for_each_list(F&& f, FactorUse, std::string_view trace_label = {}) const {
     float* all = factors.data();

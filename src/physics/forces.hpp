@@ -46,8 +46,8 @@ void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsPar
   const bool with_pressure = phys.eos != EquationOfState::None;
   auto& inv_rho = scratch.inv_rho;
   auto& Pr = scratch.p_over_rho2;
-  resize_snug(inv_rho, p.size());
-  resize_snug(Pr, p.size());
+  renew_snug(inv_rho, p.size());
+  renew_snug(Pr, p.size());
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
     Pr[i] = with_pressure ? pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i] : 0.0;

@@ -307,6 +307,39 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
   }
 }
 
+// Without stored lists (the mode for runs that would not fit) the evaluator holds no per-particle
+// scratch of its pair loops between evaluations (the gradient sums alone were 64 bytes per
+// particle), and release_rebuilt_memory() (before a reorder) leaves nothing of what it rebuilds;
+// the evaluations after it give the same bits as those of an evaluator that kept its memory.
+TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds) {
+  auto p0 = test::random_particles<2>(2000, 5, false);
+  for (auto& hi : p0.h) hi = 0.02;
+  PhaseTimers timers;
+  RateEvaluator<2> kept(KernelType::Cubic, 0.02, test::viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
+  RateEvaluator<2> released(KernelType::Cubic, 0.02, test::viscous_no_gravity(1.0), timers, Smoothing::Adaptive, 50);
+  kept.set_pair_storage(PairStorage::Rescan);
+  released.set_pair_storage(PairStorage::Rescan);
+  Particles<2> p1 = p0, p2 = p0;
+  kept.evaluate(p1);
+  released.evaluate(p2);
+  EXPECT_TRUE(released.gradient_sums().empty());
+  std::map<std::string, std::size_t> bytes;
+  for (const auto& [part, b] : released.memory()) bytes[part] = b;
+  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * sizeof(double));  // the candidate filter's prefix only
+  EXPECT_GT(bytes["cell_grid"], 0u);
+  released.release_rebuilt_memory();
+  for (const auto& [part, b] : released.memory()) EXPECT_EQ(b, 0u) << part;
+  for (int round = 0; round < 2; ++round) {
+    kept.evaluate(p1, round == 0 ? p1.size() : 300);
+    released.evaluate(p2, round == 0 ? p2.size() : 300);
+    for (std::size_t i = 0; i < p1.size(); ++i) {
+      ASSERT_EQ(p2.h[i], p1.h[i]) << "particle " << i;
+      ASSERT_EQ(p2.acc[i], p1.acc[i]) << "particle " << i;
+      ASSERT_EQ(p2.du_dt[i], p1.du_dt[i]) << "particle " << i;
+    }
+  }
+}
+
 // The memory report of the rate evaluator covers what it holds: at least the lists' entries and
 // offsets, one pair factor per pair, and one kernel slope per particle.
 TEST(RateEvaluatorMemory, CoversTheListsAndFactorsItHolds) {

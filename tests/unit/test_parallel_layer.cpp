@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -51,6 +52,13 @@ TEST(ParallelLayer, PermutePrefixMovesRecordsWhole) {
   EXPECT_EQ(v[1], (Vec<2>{{1, 2}}));
   EXPECT_EQ(v[2], (Vec<2>{{3, 4}}));
   EXPECT_EQ(v[3], (Vec<2>{{7, 8}}));
+  // Wider than a word (moved a word at a time) and not a whole number of words (moved whole).
+  std::vector<std::array<double, 4>> t = {{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 11, 12}, {13, 14, 15, 16}};
+  par::permute_prefix(t, order);
+  EXPECT_EQ(t, (std::vector<std::array<double, 4>>{{9, 10, 11, 12}, {1, 2, 3, 4}, {5, 6, 7, 8}, {13, 14, 15, 16}}));
+  std::vector<std::array<float, 3>> f = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}};
+  par::permute_prefix(f, order);
+  EXPECT_EQ(f, (std::vector<std::array<float, 3>>{{7, 8, 9}, {1, 2, 3}, {4, 5, 6}, {10, 11, 12}}));
 }
 
 TEST(ParallelLayer, PrefixOffsetsSumTheCounts) {
