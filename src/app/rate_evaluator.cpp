@@ -565,7 +565,6 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   }
   ScopedPhase t(timers_, "forces");
   compute_accelerations(p, pairs, phys_, force_scratch_, gravity_);
-  if (lean()) release_memory(force_scratch_.inv_rho, force_scratch_.p_over_rho2);
 }
 
 template <int D>

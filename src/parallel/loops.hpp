@@ -51,22 +51,16 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 // v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
 // of 0 .. order.size() - 1, so a prefix is rearranged in place of a whole copy).
 // The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
-// this thread alone. Values wider than 8 bytes move 8 bytes at a time, one pass per word, so the
-// copy holds 8 bytes per value, not sizeof(T) (a tensor's 32 were the peak of a block-step run's
-// memory, docs/performance.md).
+// this thread alone. (Moving them a word at a time, so that the copy holds 8 bytes per value and
+// not a tensor's 32, was tried in session 27: it cost the block integrator's sorts time, and once
+// the rescan mode freed its scratch after each use the sorts no longer lay at its peak memory.)
 template <class T, class A, class Index>
 void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
   static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
-  constexpr std::size_t kWord = sizeof(T) % 8 == 0 ? 8 : sizeof(T);
-  const auto moved = std::make_unique_for_overwrite<std::byte[]>(order.size() * kWord);
+  const auto moved = std::make_unique_for_overwrite<std::byte[]>(order.size() * sizeof(T));
   std::byte* at = moved.get();
-  std::byte* values = reinterpret_cast<std::byte*>(v.data());
-  for (std::size_t w = 0; w < sizeof(T); w += kWord) {
-    for_each(order.size(), [&](std::size_t k) { std::memcpy(at + k * kWord, values + order[k] * sizeof(T) + w, kWord); },
-             trace_label, 4096);
-    for_each(order.size(), [&](std::size_t k) { std::memcpy(values + k * sizeof(T) + w, at + k * kWord, kWord); },
-             trace_label, 4096);
-  }
+  for_each(order.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[order[k]], sizeof(T)); }, trace_label, 4096);
+  for_each(order.size(), [&](std::size_t k) { std::memcpy(&v[k], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
 }
 
 // offsets[0] = 0, offsets[k + 1] = offsets[k] + count(k) for k < n (offsets gets n + 1 entries): sums

@@ -32,7 +32,7 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
 
 // Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
 struct ForceScratch {
-  OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (0 without pressure)
+  OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (empty without pressure)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
@@ -47,10 +47,10 @@ void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsPar
   auto& inv_rho = scratch.inv_rho;
   auto& Pr = scratch.p_over_rho2;
   renew_snug(inv_rho, p.size());
-  renew_snug(Pr, p.size());
+  renew_snug(Pr, with_pressure ? p.size() : 0);  // (read only with pressure, list_sums.hpp)
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
-    Pr[i] = with_pressure ? pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i] : 0.0;
+    if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   const ForceListData<D> d{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),

@@ -308,8 +308,8 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
 }
 
 // Without stored lists (the mode for runs that would not fit) the evaluator holds no per-particle
-// scratch of its pair loops between evaluations (the gradient sums alone were 64 bytes per
-// particle), and release_rebuilt_memory() (before a reorder) leaves nothing of what it rebuilds;
+// scratch of its pair loops between evaluations but 1/rho (the gradient sums alone were 64 bytes
+// per particle), and release_rebuilt_memory() (before a reorder) leaves nothing of what it rebuilds;
 // the evaluations after it give the same bits as those of an evaluator that kept its memory.
 TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds) {
   auto p0 = test::random_particles<2>(2000, 5, false);
@@ -325,7 +325,9 @@ TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds)
   EXPECT_TRUE(released.gradient_sums().empty());
   std::map<std::string, std::size_t> bytes;
   for (const auto& [part, b] : released.memory()) bytes[part] = b;
-  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * sizeof(double));  // the candidate filter's prefix only
+  // The force loop's 1/rho (8 bytes per particle) and the candidate filter's prefix (4); the
+  // gradient sums alone would be 64.
+  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * 2 * sizeof(double));
   EXPECT_GT(bytes["cell_grid"], 0u);
   released.release_rebuilt_memory();
   for (const auto& [part, b] : released.memory()) EXPECT_EQ(b, 0u) << part;
