@@ -19,13 +19,14 @@
 //     its Cartesian components turn at the orbital frequency; left unturned, a stress half a step
 //     old would be off by Omega dt / 2 radians (the first-order error this removes was measured:
 //     tests/unit/test_integrators.cpp).
-// The particles are kept sorted by step length (shortest first, stably, so each bin keeps the
-// space-filling-curve order of the last reorder). A step of 2^k ticks starts at a multiple of
+// The particles are kept grouped by step length, shortest first (at the start of a cycle by a
+// stable sort, so each bin keeps the cell order of the last reorder; inside it by moving only the
+// particles outside their bin's range). A step of 2^k ticks starts at a multiple of
 // 2^k, so the steps ending at tick t are exactly those of at most the largest power of two dividing
 // t: the active particles are always a prefix, and the rates are computed for the first n_active
 // particles (RateEvaluator::evaluate(p, active)). Only the active prefix gets new lengths, none
 // longer than that power of two (they must divide t) while every inactive one is longer, so
-// re-sorting the prefix alone keeps the whole order: the integrator's own work per evaluation,
+// regrouping the prefix alone keeps the whole order: the integrator's own work per evaluation,
 // beyond the drift, scales with the active particles, not with all of them. Every choice depends
 // only on a particle's own state and on global minima and maxima, so results do not depend on
 // thread or rank count. With every particle in one bin this is exactly the respa scheme.
@@ -129,7 +130,7 @@ class BlockLeapfrog final : public Integrator<D> {
         length_[i] = static_cast<Ticks>(step_ticks(particle_timestep(p, i, phys, f), tick, next));
         open_step(p, i, tick, energy);
       }, "integration");
-      if (next != kTicks) sort_by_length(p, active);
+      if (next != kTicks) group_by_length(p, active);
       now = next;
     }
     return cycle;
@@ -137,7 +138,7 @@ class BlockLeapfrog final : public Integrator<D> {
 
   std::size_t bytes() const override {
     return u_half_.capacity() * sizeof(double) + (start_.capacity() + length_.capacity()) * sizeof(Ticks) +
-           v_kick_.capacity() * sizeof(Vec<D>) + order_.capacity() * sizeof(std::uint32_t);
+           v_kick_.capacity() * sizeof(Vec<D>) + (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t);
   }
 
  private:
@@ -166,15 +167,14 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   // Stable counting sort of the first `count` particles (and this integrator's per-particle state)
-  // by step length, shortest first; nothing is moved when they are in order already (the common case).
+  // by step length, shortest first; nothing is moved when they are in order already. At the start
+  // of a cycle (just after the particles were put in cell order), so that each bin keeps that order.
   void sort_by_length(Particles<D>& p, std::size_t count) {
     if (std::is_sorted(length_.begin(), length_.begin() + static_cast<std::ptrdiff_t>(count))) return;
-    std::array<std::size_t, kMaxBins + 2> first{};  // first[k + 1]: particles of 2^k ticks, then prefix sums
-    const auto bin = [this](std::size_t i) { return static_cast<std::size_t>(std::countr_zero(length_[i])); };
-    for (std::size_t i = 0; i < count; ++i) ++first[bin(i) + 1];
-    for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
+    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(count);
+    std::array<std::size_t, kMaxBins + 2> next = first;
     order_.resize(count);
-    for (std::size_t i = 0; i < count; ++i) order_[first[bin(i)]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < count; ++i) order_[next[bin(i)]++] = static_cast<std::uint32_t>(i);
     // Field by field in parallel (a serial Particles::gather was most of this integrator's own time).
     p.for_each_field([this](const FieldInfo&, auto& v) { par::permute_prefix(v, order_, "integration"); });
     par::permute_prefix(start_, order_, "integration");
@@ -183,12 +183,63 @@ class BlockLeapfrog final : public Integrator<D> {
     if (!u_half_.empty()) par::permute_prefix(u_half_, order_, "integration");
   }
 
+  // The same grouping inside a cycle, moving only the particles outside their bin's range: the k-th
+  // of those that belong to bin b (in memory order) takes the k-th place in b's range held by a
+  // particle of another bin. A stable sort moved 97% of the prefix (a particle that changes bin
+  // shifts every one between its old and new place: 100k ring, 20 block cycles, 7.4M moves of
+  // 7.6M sorted) where 16% lay outside their bin's range. Memory order changes no result (the
+  // pair sums follow cell order) and is the same for any thread count.
+  void group_by_length(Particles<D>& p, std::size_t count) {
+    if (std::is_sorted(length_.begin(), length_.begin() + static_cast<std::ptrdiff_t>(count))) return;
+    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(count);
+    // Out-of-range particles (sources) and the places they leave (holes), each counted by bin.
+    std::array<std::size_t, kMaxBins + 2> source_at{}, hole_at{};
+    std::size_t region = 0, misplaced = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      while (k >= first[region + 1]) ++region;
+      const std::size_t b = bin(k);
+      if (b == region) continue;
+      ++source_at[b + 1];
+      ++hole_at[region + 1];
+      ++misplaced;
+    }
+    for (std::size_t b = 1; b < source_at.size(); ++b) {
+      source_at[b] += source_at[b - 1];
+      hole_at[b] += hole_at[b - 1];
+    }
+    order_.resize(misplaced);
+    holes_.resize(misplaced);
+    region = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      while (k >= first[region + 1]) ++region;
+      const std::size_t b = bin(k);
+      if (b == region) continue;
+      order_[source_at[b]++] = static_cast<std::uint32_t>(k);
+      holes_[hole_at[region]++] = static_cast<std::uint32_t>(k);
+    }
+    p.for_each_field([this](const FieldInfo&, auto& v) { par::move_values(v, order_, holes_, "integration"); });
+    par::move_values(start_, order_, holes_, "integration");
+    par::move_values(length_, order_, holes_, "integration");
+    par::move_values(v_kick_, order_, holes_, "integration");
+    if (!u_half_.empty()) par::move_values(u_half_, order_, holes_, "integration");
+  }
+
+  std::size_t bin(std::size_t i) const { return static_cast<std::size_t>(std::countr_zero(length_[i])); }
+
+  // first[k]: where the particles of 2^k ticks start among the first `count` once grouped by length.
+  std::array<std::size_t, kMaxBins + 2> bin_starts(std::size_t count) const {
+    std::array<std::size_t, kMaxBins + 2> first{};
+    for (std::size_t i = 0; i < count; ++i) ++first[bin(i) + 1];
+    for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
+    return first;
+  }
+
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
   std::vector<Ticks> start_, length_;
   std::vector<Vec<D>> v_kick_;  // velocity after the opening kick, moved in the point-mass field since
   std::vector<double> u_half_;
-  std::vector<std::uint32_t> order_;
+  std::vector<std::uint32_t> order_, holes_;
 };
 
 template <int D>

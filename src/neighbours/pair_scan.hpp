@@ -17,6 +17,7 @@
 // schedule and partner order, so the two give the same bits (test_pair_scan.cpp); with one smoothing
 // length for all particles the owner is always the first, only the half of the stencil after it is
 // searched, and the stored lists' forward-only schedule orders the terms differently (round-off).
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -64,14 +65,40 @@ class ScannedPairs {
       for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) pairs += list_of(tiles_.order[s], false, use, f);
       if (count) found_ += pairs;
     }, trace_label);
+    // Far pairs: serial, in tile order, within the blocks that hold particles reaching beyond the
+    // adjacent tiles (a serial test of every particle in each loop was ~3% of a 2-thread block run,
+    // the other thread idle).
+    if (!far_blocks_found_) find_far_blocks();
     std::size_t far_pairs = 0;
-    for (const std::uint32_t i : tiles_.order)
-      if (reach_of(i) > tiles_.tile_cells) far_pairs += list_of(i, true, use, f);
+    const std::size_t n = tiles_.order.size();
+    for (std::size_t b = 0; b < far_blocks_.size(); ++b) {
+      if (!far_blocks_[b]) continue;
+      for (std::size_t s = b * kFarBlock; s < std::min(n, (b + 1) * kFarBlock); ++s) {
+        const std::uint32_t i = tiles_.order[s];
+        if (reach_of(i) > tiles_.tile_cells) far_pairs += list_of(i, true, use, f);
+      }
+    }
     if (count) found_ += far_pairs;
   }
 
  private:
+  static constexpr std::size_t kFarBlock = 1024;  // particles (in tile order) per flag of far_blocks_
+
   int reach_of(std::size_t i) const { return cells_within(grid_, 2.0 * h_[i]); }
+
+  // far_blocks_[b]: whether a particle of tile order [b kFarBlock, (b + 1) kFarBlock) reaches beyond
+  // the adjacent tiles (found once, in parallel: h does not change between the loops).
+  void find_far_blocks() const {
+    const std::size_t n = tiles_.order.size();
+    far_blocks_.assign((n + kFarBlock - 1) / kFarBlock, 0);
+    par::for_each(far_blocks_.size(), [&](std::size_t b) {
+      bool any = false;
+      for (std::size_t s = b * kFarBlock; s < std::min(n, (b + 1) * kFarBlock); ++s)
+        any |= reach_of(tiles_.order[s]) > tiles_.tile_cells;
+      far_blocks_[b] = any;
+    }, {}, 1);
+    far_blocks_found_ = true;
+  }
 
   // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order:
   // its candidates within its support scanned row by row (scan_row: vectorised in 2D), each row
@@ -154,6 +181,8 @@ class ScannedPairs {
   Form form_;
   mutable std::atomic<std::size_t> found_{0};
   mutable bool counted_ = false;
+  mutable std::vector<char> far_blocks_;
+  mutable bool far_blocks_found_ = false;
 };
 
 }  // namespace sphdisk

@@ -63,6 +63,17 @@ void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::
   for_each(order.size(), [&](std::size_t k) { std::memcpy(&v[k], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
 }
 
+// v[to[k]] = old v[from[k]] for every k (to: a permutation of the positions in from).
+template <class T, class A, class Index>
+void move_values(std::vector<T, A>& v, const std::vector<Index>& from, const std::vector<Index>& to,
+                 std::string_view trace_label = {}) {
+  static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
+  const auto moved = std::make_unique_for_overwrite<std::byte[]>(from.size() * sizeof(T));
+  std::byte* at = moved.get();
+  for_each(from.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[from[k]], sizeof(T)); }, trace_label, 4096);
+  for_each(to.size(), [&](std::size_t k) { std::memcpy(&v[to[k]], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+}
+
 // offsets[0] = 0, offsets[k + 1] = offsets[k] + count(k) for k < n (offsets gets n + 1 entries): sums
 // of blocks of counts in parallel, the blocks' starts serially, then every offset in parallel.
 // Integer sums, so the same values for any thread count.

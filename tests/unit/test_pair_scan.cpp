@@ -20,13 +20,13 @@ using namespace sphdisk;
 
 namespace {
 
-// Particles with smoothing lengths h0 (equal_h) or h0 x [0.6, 1.4) with every 50th particle's eight
-// times wider (supports wider than a tile: far pairs).
+// Particles with smoothing lengths h0 (equal_h) or h0 x [0.6, 1.4) with every `wide_every`-th
+// particle's eight times wider (supports wider than a tile: far pairs).
 template <int D>
-Particles<D> with_smoothing_lengths(Particles<D> p, double h0, bool equal_h, unsigned seed) {
+Particles<D> with_smoothing_lengths(Particles<D> p, double h0, bool equal_h, unsigned seed, std::size_t wide_every = 50) {
   std::mt19937_64 g(seed);
   std::uniform_real_distribution<double> u(0.6, 1.4);
-  for (std::size_t i = 0; i < p.size(); ++i) p.h[i] = equal_h ? h0 : h0 * u(g) * (i % 50 == 7 ? 8.0 : 1.0);
+  for (std::size_t i = 0; i < p.size(); ++i) p.h[i] = equal_h ? h0 : h0 * u(g) * (i % wide_every == 7 ? 8.0 : 1.0);
   return p;
 }
 
@@ -73,8 +73,9 @@ struct ScanSetup {
 
 template <int D>
 void check_every_pair_once(Particles<D> particles, double h0, bool equal_h, std::size_t writable, int tile_cells,
-                           bool expect_far) {
-  ScanSetup<D> s(with_smoothing_lengths(std::move(particles), h0, equal_h, 5), h0, equal_h, writable, tile_cells);
+                           bool expect_far, std::size_t wide_every = 50) {
+  ScanSetup<D> s(with_smoothing_lengths(std::move(particles), h0, equal_h, 5, wide_every), h0, equal_h, writable,
+                 tile_cells);
   const std::size_t n = s.p.size();
   std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
   for (std::uint32_t i = 0; i < n; ++i)
@@ -123,6 +124,11 @@ TEST(PairScan, EveryPairOnceWithVaryingSmoothingLengths) {
 TEST(PairScan, PairsBeyondTheAdjacentTilesOnce) {
   check_every_pair_once(test::random_particles<2>(1500, 45, true), 0.015, false, 1500, 1, true);
   check_every_pair_once(test::random_particles<3>(1500, 46, false), 0.05, false, 1500, 2, true);
+}
+// A few wide particles among many: the far pairs are looked for only in the runs of the tile order
+// that hold one (ScannedPairs::find_far_blocks), and none may be missed.
+TEST(PairScan, FewWideParticlesFarPairsOnce) {
+  check_every_pair_once(test::random_particles<2>(5000, 51, true), 0.008, false, 5000, 1, true, 1200);
 }
 // Particles from `writable` on (ghosts, inactive particles) only count with writable partners.
 TEST(PairScan, PairsOfTwoUnwritableParticlesLeftOut) {
