@@ -71,11 +71,18 @@ struct CandidateFilter {
   // Whether any candidate lies in the cells within `radius` of x (2D with a table; else true).
   template <int D>
   bool any_within(const CellGrid<D>& grid, const Vec<D>& x, double radius) const {
+    return any_within_box(grid, x, x, radius);
+  }
+
+  // The same for every point of the box [lo, hi] at once: false only when no candidate lies within
+  // `radius` of any of them (a whole tile of the pair schedule dismissed, pair_scan.hpp).
+  template <int D>
+  bool any_within_box(const CellGrid<D>& grid, const Vec<D>& lo, const Vec<D>& hi, double radius) const {
     if (boxed) {
-      double d2 = 0;  // squared distance from x to the box: at most that to any candidate, each
-                      // difference and sum rounded no larger; the margin covers a fused norm2
+      double d2 = 0;  // squared distance between the boxes: at most that between any two of their
+                      // points, each difference and sum rounded no larger; the margin covers a fused norm2
       for (int k = 0; k < D; ++k) {
-        const double gap = std::max({box_lo[k] - x[k], x[k] - box_hi[k], 0.0});
+        const double gap = std::max({box_lo[k] - hi[k], lo[k] - box_hi[k], 0.0});
         d2 += gap * gap;
       }
       if (d2 > radius * radius * (1.0 + 1e-9)) return false;
@@ -83,13 +90,12 @@ struct CandidateFilter {
     if constexpr (D == 2) {
       if (cell_sum.empty()) return true;
       const int reach = cells_within(grid, radius);
-      std::size_t lo[2], hi[2];  // the square of cells within reach, [lo, hi) per axis
+      std::size_t first[2], last[2];  // the cells within reach of the box's cells, [first, last) per axis
       for (int k = 0; k < 2; ++k) {
-        const int c = grid.coord(x[k], k);
-        lo[k] = static_cast<std::size_t>(std::max(c - reach, 0));
-        hi[k] = static_cast<std::size_t>(std::min(c + reach, grid.dims[static_cast<std::size_t>(k)] - 1)) + 1;
+        first[k] = static_cast<std::size_t>(std::max(grid.coord(lo[k], k) - reach, 0));
+        last[k] = static_cast<std::size_t>(std::min(grid.coord(hi[k], k) + reach, grid.dims[static_cast<std::size_t>(k)] - 1)) + 1;
       }
-      const std::size_t x0 = lo[0], x1 = hi[0], y0 = lo[1], y1 = hi[1], w = static_cast<std::size_t>(grid.dims[0]) + 1;
+      const std::size_t x0 = first[0], x1 = last[0], y0 = first[1], y1 = last[1], w = static_cast<std::size_t>(grid.dims[0]) + 1;
       return cell_sum[y1 * w + x1] - cell_sum[y0 * w + x1] - cell_sum[y1 * w + x0] + cell_sum[y0 * w + x0] != 0;
     } else {
       return true;
