@@ -125,10 +125,20 @@ TEST(PairScan, PairsBeyondTheAdjacentTilesOnce) {
   check_every_pair_once(test::random_particles<2>(1500, 45, true), 0.015, false, 1500, 1, true);
   check_every_pair_once(test::random_particles<3>(1500, 46, false), 0.05, false, 1500, 2, true);
 }
-// A few wide particles among many: the far pairs are looked for only in the runs of the tile order
-// that hold one (ScannedPairs::find_far_blocks), and none may be missed.
+// A few wide particles among many: the far pairs are looked for only in the tiles that hold one
+// (ScannedPairs::summarise_tiles), and none may be missed.
 TEST(PairScan, FewWideParticlesFarPairsOnce) {
   check_every_pair_once(test::random_particles<2>(5000, 51, true), 0.008, false, 5000, 1, true, 1200);
+}
+// The writable particles in a strip along one edge (as the active particles of block steps crowd
+// the centre): tiles with none of them within reach are skipped whole, and the unwritable
+// particles next to the strip, in tiles of their own, still give their pairs with it.
+TEST(PairScan, TilesFarFromWritableParticlesSkippedWithoutLosingPairs) {
+  for (const unsigned seed : {52u, 53u}) {
+    Particles<2> p = test::random_particles<2>(4000, seed, false);
+    std::sort(p.pos.begin(), p.pos.end(), [](const Vec<2>& a, const Vec<2>& b) { return a[0] < b[0]; });
+    check_every_pair_once(std::move(p), 0.015, false, 600, 2, true, 300);
+  }
 }
 // Particles from `writable` on (ghosts, inactive particles) only count with writable partners.
 TEST(PairScan, PairsOfTwoUnwritableParticlesLeftOut) {
