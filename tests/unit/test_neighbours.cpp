@@ -83,6 +83,32 @@ TEST(Neighbours, SameListsForAnyThreadCount) {
   EXPECT_EQ(a.index, b.index);
 }
 
+// A grid of many particles: every particle in its cell once, each cell's particles by x, then ID,
+// for 1 and 3 threads.
+TEST(CellGrid, EveryParticleInItsCellInOrder) {
+  const auto p = test::random_particles<2>(150000, 8, true);
+  for (const int threads : {1, 3}) {
+    par::set_threads(threads);
+    const auto g = build_cell_grid(p.pos, p.id, 0.004);
+    par::set_threads(0);
+    ASSERT_EQ(g.sorted.size(), p.size());
+    ASSERT_EQ(g.offsets.size(), g.num_cells() + 1);
+    std::vector<int> seen(p.size(), 0);
+    for (std::size_t c = 0; c < g.num_cells(); ++c)
+      for (std::uint32_t s = g.offsets[c]; s < g.offsets[c + 1]; ++s) {
+        const std::uint32_t i = g.sorted[s];
+        ++seen[i];
+        ASSERT_EQ(g.cell_of(p.pos[i]), c) << "slot " << s;
+        ASSERT_EQ(g.sorted_pos[s], p.pos[i]);
+        if (s > g.offsets[c]) {
+          const std::uint32_t before = g.sorted[s - 1];
+          ASSERT_TRUE(p.pos[before][0] < p.pos[i][0] || (p.pos[before][0] == p.pos[i][0] && p.id[before] < p.id[i]));
+        }
+      }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(p.size()));
+  }
+}
+
 // A lattice with no lower bound on the cell size (a zero smoothing length) is sized by the cap on
 // cells (at most max(4 n, 1024)), instead of never finishing.
 TEST(Lattice, ZeroMinimumCellSizeIsCappedByTheCellCount) {
