@@ -175,12 +175,7 @@ class BlockLeapfrog final : public Integrator<D> {
     std::array<std::size_t, kMaxBins + 2> next = first;
     order_.resize(count);
     for (std::size_t i = 0; i < count; ++i) order_[next[bin(i)]++] = static_cast<std::uint32_t>(i);
-    // Field by field in parallel (a serial Particles::gather was most of this integrator's own time).
-    p.for_each_field([this](const FieldInfo&, auto& v) { par::permute_prefix(v, order_, "integration"); });
-    par::permute_prefix(start_, order_, "integration");
-    par::permute_prefix(length_, order_, "integration");
-    par::permute_prefix(v_kick_, order_, "integration");
-    if (!u_half_.empty()) par::permute_prefix(u_half_, order_, "integration");
+    for_each_array(p, [this](auto& v) { par::permute_prefix(v, order_, "integration"); });
   }
 
   // The same grouping inside a cycle, moving only the particles outside their bin's range: the k-th
@@ -218,11 +213,19 @@ class BlockLeapfrog final : public Integrator<D> {
       order_[source_at[b]++] = static_cast<std::uint32_t>(k);
       holes_[hole_at[region]++] = static_cast<std::uint32_t>(k);
     }
-    p.for_each_field([this](const FieldInfo&, auto& v) { par::move_values(v, order_, holes_, "integration"); });
-    par::move_values(start_, order_, holes_, "integration");
-    par::move_values(length_, order_, holes_, "integration");
-    par::move_values(v_kick_, order_, holes_, "integration");
-    if (!u_half_.empty()) par::move_values(u_half_, order_, holes_, "integration");
+    for_each_array(p, [this](auto& v) { par::move_values(v, order_, holes_, "integration"); });
+  }
+
+  // f(v) for every per-particle array that moves with the particles: the fields and this
+  // integrator's own, each in turn, in parallel inside f (a serial Particles::gather was most of
+  // this integrator's own time).
+  template <class F>
+  void for_each_array(Particles<D>& p, F&& f) {
+    p.for_each_field([&f](const FieldInfo&, auto& v) { f(v); });
+    f(start_);
+    f(length_);
+    f(v_kick_);
+    if (!u_half_.empty()) f(u_half_);
   }
 
   std::size_t bin(std::size_t i) const { return static_cast<std::size_t>(std::countr_zero(length_[i])); }

@@ -48,30 +48,32 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 #endif
 }
 
-// v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
-// of 0 .. order.size() - 1, so a prefix is rearranged in place of a whole copy).
+// v[to(k)] = old v[from[k]] for k < from.size() (to: a permutation of the positions in from).
 // The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
 // this thread alone. (Moving them a word at a time, so that the copy holds 8 bytes per value and
 // not a tensor's 32, was tried in session 27: it cost the block integrator's sorts time, and once
 // the rescan mode freed its scratch after each use the sorts no longer lay at its peak memory.)
+template <class T, class A, class Index, class To>
+void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::string_view trace_label) {
+  static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
+  const auto moved = std::make_unique_for_overwrite<std::byte[]>(from.size() * sizeof(T));
+  std::byte* at = moved.get();
+  for_each(from.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[from[k]], sizeof(T)); }, trace_label, 4096);
+  for_each(from.size(), [&](std::size_t k) { std::memcpy(&v[to(k)], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+}
+
+// v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
+// of 0 .. order.size() - 1, so a prefix is rearranged in place of a whole copy).
 template <class T, class A, class Index>
 void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
-  static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
-  const auto moved = std::make_unique_for_overwrite<std::byte[]>(order.size() * sizeof(T));
-  std::byte* at = moved.get();
-  for_each(order.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[order[k]], sizeof(T)); }, trace_label, 4096);
-  for_each(order.size(), [&](std::size_t k) { std::memcpy(&v[k], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+  move_values_to(v, order, [](std::size_t k) { return k; }, trace_label);
 }
 
 // v[to[k]] = old v[from[k]] for every k (to: a permutation of the positions in from).
 template <class T, class A, class Index>
 void move_values(std::vector<T, A>& v, const std::vector<Index>& from, const std::vector<Index>& to,
                  std::string_view trace_label = {}) {
-  static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
-  const auto moved = std::make_unique_for_overwrite<std::byte[]>(from.size() * sizeof(T));
-  std::byte* at = moved.get();
-  for_each(from.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[from[k]], sizeof(T)); }, trace_label, 4096);
-  for_each(to.size(), [&](std::size_t k) { std::memcpy(&v[to[k]], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+  move_values_to(v, from, [&to](std::size_t k) { return to[k]; }, trace_label);
 }
 
 // offsets[0] = 0, offsets[k + 1] = offsets[k] + count(k) for k < n (offsets gets n + 1 entries): sums
