@@ -10,6 +10,7 @@
 #include "neighbours/involved_particles.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
+#include "physics/viscous_rates.hpp"
 #include "parallel/nth_values.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
@@ -553,6 +554,16 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
     density(pairs);
   }
   refresh_ghosts(p, GhostStage::Density);
+  // Pairs searched anew are searched once for the gradient and force loops together, unless ghosts'
+  // stresses must be fetched between the two or the force correction's heating loop lies between.
+  if constexpr (JoinsLoops<Pairs>) {
+    if (!domain_ && !phys_.force_correction) {
+      ScopedPhase t(timers_, "gradient_and_forces");
+      compute_stress_and_accelerations(p, pairs, phys_, gradient_sums_, force_scratch_, gravity_);
+      if (lean()) release_memory(gradient_sums_);
+      return;
+    }
+  }
   {
     ScopedPhase t(timers_, "velocity_gradient");
     compute_viscous_stress(p, pairs, phys_, gradient_sums_);

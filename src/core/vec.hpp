@@ -96,6 +96,18 @@ template <int D, class T>
 constexpr void store(Mat<D, T>& to, const Mat<D>& m) {
   for (std::size_t k = 0; k < to.c.size(); ++k) to.c[k] = static_cast<T>(m.c[k]);
 }
+// Stores m in a field's storage form and returns what was stored, in double precision: what every
+// later reader of the field gets, for sums that must pair with theirs term by term (energy). Not
+// inlined: inlined where m came from one of two branches (the moment correction's inverse or the
+// identity), g++ 12 -O3 used m itself, not its rounding to float (the preset "single"'s
+// conservation tests failed by ~1e-8 of the work).
+template <int D, class T>
+[[gnu::noinline]] Mat<D> store_and_read(Mat<D, T>& to, const Mat<D>& m) {
+  Mat<D, T> stored;
+  store(stored, m);
+  to = stored;
+  return as_double(stored);
+}
 template <class T>
   requires std::is_floating_point_v<T>
 constexpr void store(T& to, double x) {

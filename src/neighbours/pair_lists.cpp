@@ -100,6 +100,8 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
   out.writable = std::min(writable, n);
   const TileLayout<D> L = tile_layout(grid, std::max(tile_cells, 1));
   out.tile_cells = L.T;
+  out.tile_count = {1, 1, 1};
+  for (std::size_t k = 0; k < D; ++k) out.tile_count[k] = L.count[k];
   out.tile_length = L.T * grid.cell_size;
   out.writes = writes;
   const std::size_t ntiles = L.size();
@@ -369,6 +371,7 @@ void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& 
   out.slot = listed.slot;
   out.tile = listed.tile;
   out.tile_cells = listed.tile_cells;
+  out.tile_count = listed.tile_count;
   out.tile_length = listed.tile_length;
   out.writes = listed.writes;
   const auto interacting = [&](std::size_t s, std::uint32_t j) {  // list s: particle order[s]'s

@@ -14,11 +14,14 @@
 // locks or atomics, and every particle receives its pair terms in a fixed order: colour by colour
 // (the tiles that write to it all have different colours), inside a tile in cell order. Half lists
 // made from gather lists (variable h) may give a pair to its second particle; their tiles write to
-// every adjacent tile and are coloured (tx mod 3, ty mod 3) (TileWrites::AllNeighbours). Far pairs (tiles not adjacent: a particle whose
-// support is much wider than a tile) follow all colours, in tile order. Nothing in the order
+// every adjacent tile (TileWrites::AllNeighbours) and run as jobs that keep tile order among the
+// tiles that write to a common particle (tile_jobs.hpp; colours (tx mod 3, ty mod 3) are kept for
+// the tests). Far pairs (tiles not adjacent: a particle whose support is much wider than a tile)
+// follow all tiles, in tile order (or precede them: FarPairs::First). Nothing in the order
 // depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
 // relative order).
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -29,6 +32,7 @@
 #include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
+#include "neighbours/tile_jobs.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -52,6 +56,7 @@ struct PairLists {
   std::size_t writable = 0;               // pair terms are wanted for particles [0, writable) only
   std::vector<std::uint32_t> slot;        // each particle's place in cell order (its grid slot)
   std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
+  std::array<int, 3> tile_count{1, 1, 1};  // tiles per dimension (tile t = x + count_x (y + count_y z))
   int tile_cells = 1;                     // cells per tile and dimension
   double tile_length = 0;                 // tile_cells x the grid's cell size
   TileWrites writes = TileWrites::Forward;  // which tiles a tile's pairs may write to (the colouring)
@@ -102,16 +107,37 @@ bool tiles_adjacent(const std::int32_t* a, const std::int32_t* b) {
   return yes;
 }
 
+// Where a pair loop puts the far pairs: after the tiles' pairs (the default), or before them (the
+// velocity-gradient sums: so that a particle's sums are complete once the tiles around it have
+// passed, and the force loop can follow the gradient loop tile by tile, tile_jobs.hpp).
+enum class FarPairs { Last, First };
+
 // Calls f(i, js, k0) once per particle i with a non-empty half list: js its partners, numbered
 // k0, k0 + 1, ... (near pairs first, as per-pair arrays such as the pair factors are indexed: in
 // the order of the calls within each part).
 // Concurrent calls never share a particle, and each particle's terms come in the fixed order
 // described above. A list at a time lets the physics keep i's sums in registers.
 template <class F>
-void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label = {}) {
+void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label = {}, FarPairs far_pairs = FarPairs::Last) {
+  const auto far_lists = [&] {
+    const NeighbourLists& far = pl.far;
+    const std::size_t base = pl.near.total();
+    if (far.total() == 0) return;
+    // Serial (far pairs may share particles). The offsets are cumulative, so a run of lists without
+    // far pairs is skipped at once: few lists have any, and a test of every list was a serial pass
+    // over all particles in each pair loop.
+    constexpr std::size_t kRun = 1024;
+    const std::size_t n = pl.order.size();
+    for (std::size_t s0 = 0; s0 < n; s0 += kRun) {
+      const std::size_t s1 = std::min(n, s0 + kRun);
+      if (far.offsets[s1] == far.offsets[s0]) continue;
+      for (std::size_t s = s0; s < s1; ++s)
+        if (far.count(s) > 0) f(pl.order[s], std::span<const std::uint32_t>(far.begin(s), far.count(s)), base + far.offsets[s]);
+    }
+  };
+  if (far_pairs == FarPairs::First) far_lists();
   const NeighbourLists& near = pl.near;
-  par::for_each_coloured(pl.colour_start, [&](std::size_t c) {
-    const std::uint32_t t = pl.tiles_by_colour[c];
+  const auto tile_lists = [&](std::uint32_t t) {
     const std::size_t s0 = pl.tile_start[t], s1 = pl.tile_start[t + 1];
     for (std::size_t s = s0; s < s1; ++s) {
       // Lists left inside gather lists (NeighbourLists::within) in particle order lie apart in
@@ -122,21 +148,14 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
       }
       if (near.count(s) > 0) f(pl.order[s], near.list(s), near.offsets[s]);  // joined, in the builder's blocks or within the gather lists
     }
-  }, trace_label);
-  const NeighbourLists& far = pl.far;
-  const std::size_t base = near.total();
-  if (far.total() == 0) return;
-  // Serial (far pairs may share particles). The offsets are cumulative, so a run of lists without
-  // far pairs is skipped at once: few lists have any, and a test of every list was a serial pass
-  // over all particles in each pair loop.
-  constexpr std::size_t kRun = 1024;
-  const std::size_t n = pl.order.size();
-  for (std::size_t s0 = 0; s0 < n; s0 += kRun) {
-    const std::size_t s1 = std::min(n, s0 + kRun);
-    if (far.offsets[s1] == far.offsets[s0]) continue;
-    for (std::size_t s = s0; s < s1; ++s)
-      if (far.count(s) > 0) f(pl.order[s], std::span<const std::uint32_t>(far.begin(s), far.count(s)), base + far.offsets[s]);
+  };
+  if (pl.writes == TileWrites::AllNeighbours) {
+    const TileJobs jobs(pl.tile_count, [&](std::size_t t) { return pl.tile_start[t + 1] > pl.tile_start[t]; });
+    jobs.run_one_pass(tile_lists, trace_label);
+  } else {
+    par::for_each_coloured(pl.colour_start, [&](std::size_t c) { tile_lists(pl.tiles_by_colour[c]); }, trace_label);
   }
+  if (far_pairs == FarPairs::Last) far_lists();
 }
 
 // Calls f(i, j, k) once for every pair (i first in cell order, k its number), in the same order.
@@ -162,11 +181,11 @@ struct StoredPairs {
   std::size_t writable() const { return lists.writable; }
   void prepare_factors() const { renew_snug(factors, lists.total()); }
   template <class F>
-  void for_each_list(F&& f, FactorUse, std::string_view trace_label = {}) const {
+  void for_each_list(F&& f, FactorUse, std::string_view trace_label = {}, FarPairs far_pairs = FarPairs::Last) const {
     float* all = factors.data();
     for_each_pair_list(lists, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::size_t k0) {
       f(i, js, std::span<float>(all + k0, js.size()));
-    }, trace_label);
+    }, trace_label, far_pairs);
   }
 };
 
@@ -187,16 +206,16 @@ struct StoredPairsFormingFactors {
   std::size_t writable() const { return stored.writable(); }
   void prepare_factors() const {}
   template <class F>
-  void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
+  void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}, FarPairs far_pairs = FarPairs::Last) const {
     if (formed || use == FactorUse::Write) {
       formed = true;
-      stored.for_each_list(f, use, trace_label);
+      stored.for_each_list(f, use, trace_label, far_pairs);
       return;
     }
     stored.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
       form(i, js, factors);
       f(i, js, factors);
-    }, use, trace_label);
+    }, use, trace_label, far_pairs);
     formed = true;
   }
 };

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -31,6 +32,7 @@
 #include "neighbours/candidate_scan.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/pair_lists.hpp"
+#include "neighbours/tile_jobs.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -49,36 +51,126 @@ class ScannedPairs {
                const CandidateFilter& writable, Form form)
       : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), writable_(writable), form_(form) {}
 
+  static constexpr bool kJoinsLoops = true;  // for_each_list_joined (physics/viscous_rates.hpp)
   std::size_t writable() const { return tiles_.writable; }
   void prepare_factors() const {}
   // Pairs found by the first loop (every loop finds the same ones): the pair count of an evaluation.
   std::size_t pairs_found() const { return found_.load(); }
 
-  // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs.
+  // The interface of StoredPairs (pair_lists.hpp): f(i, js, F) for every particle owning pairs, in
+  // the order of tile_jobs.hpp, the far pairs before or after the tiles' pairs.
   template <class F>
-  void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}) const {
-    const bool count = !counted_;  // in the first loop only: one atomic add per tile, not per list
-    counted_ = true;                // (threads adding per list contended for the counter's cache line)
-    if (!summarised_) summarise_tiles();
-    // The first loop notes which particles own a pair (each particle is visited by one thread);
-    // the loops after it skip the others, whose tests and scans would find the same nothing (the
-    // force loop of a 100k ring's block run ~14% faster against the gradient loop, 2 threads).
-    const auto visit = [&](std::uint32_t i, bool far) -> std::size_t {
-      if (!count && !owns_pairs_[i]) return 0;
-      const std::size_t found = list_of(i, far, use, f);
-      if (count) owns_pairs_[i] |= static_cast<char>(found > 0);
-      return found;
-    };
-    par::for_each_coloured(tiles_.colour_start, [&](std::size_t c) {
-      const std::uint32_t t = tiles_.tiles_by_colour[c];
-      if (idle_tile_[t]) return;
+  void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}, FarPairs far_pairs = FarPairs::Last) const {
+    const bool count = begin_loop();
+    const auto visit = [&](std::uint32_t i, bool far) { return visit_particle(i, far, use, count, f); };
+    if (far_pairs == FarPairs::First) visit_far(visit, count);
+    jobs_->run_one_pass([&](std::uint32_t t) {
       std::size_t pairs = 0;
       for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) pairs += visit(tiles_.order[s], false);
       if (count) found_ += pairs;
     }, trace_label);
-    // Far pairs: serial, in tile order, in the tiles that hold a particle reaching beyond the
-    // adjacent tiles (a serial test of every particle in each loop was ~3% of a 2-thread block run,
-    // the other thread idle).
+    if (far_pairs == FarPairs::Last) visit_far(visit, count);
+  }
+
+  // Two loops in one pass (TileJobs::run_joined): first(i, js, F) for every list as for_each_list
+  // with FarPairs::First gives them, settle(i) for every writable particle once every pair term of
+  // the first loop has reached it, and second(i, js, F) for every list as for_each_list with
+  // FarPairs::Last gives them, a tile's lists as soon as its partners' tiles are settled. Each
+  // tile's lists (partners and factors) are kept from its first pass to its second, so the pairs are
+  // searched once for both loops, while only the tiles between the two passes hold lists (about two
+  // rows of tiles) rather than every particle (the memory that sph.pair_lists = "rescan" saves).
+  template <class First, class Settle, class Second>
+  void for_each_list_joined(First&& first, Settle&& settle, Second&& second, std::string_view trace_label = {}) const {
+    const bool count = begin_loop();
+    const std::size_t m = tiles_.writable;
+    std::vector<KeptLists> far_kept(1);
+    std::vector<KeptLists> kept(tiles_.tile_start.size() - 1);
+    const auto keep_then = [&](KeptLists& into, std::uint32_t i, bool far) {
+      return visit_particle(i, far, FactorUse::Read, count, [&](std::uint32_t i_, std::span<const std::uint32_t> js, std::span<float> F) {
+        into.add(i_, js, F);
+        first(i_, js, F);
+      });
+    };
+    visit_far([&](std::uint32_t i, bool far) { return keep_then(far_kept[0], i, far); }, count);
+    jobs_->run_joined([&](std::uint32_t t) {
+      // Written where they grow on this thread, then kept at their size (growing each tile's own
+      // lists moved them ~2% of a block run, and left them up to twice their size).
+      thread_local KeptLists growing;
+      growing.clear();
+      std::size_t pairs = 0;
+      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s) pairs += keep_then(growing, tiles_.order[s], false);
+      kept[t].copy(growing);
+      if (count) found_ += pairs;
+    }, [&](std::uint32_t t) {
+      for (std::size_t s = tiles_.tile_start[t]; s < tiles_.tile_start[t + 1]; ++s)
+        if (tiles_.order[s] < m) settle(tiles_.order[s]);
+    }, [&](std::uint32_t t) {
+      kept[t].replay(second);
+      KeptLists{}.swap(kept[t]);  // freed: the memory stays bounded by the tiles in flight
+    }, trace_label);
+    far_kept[0].replay(second);
+  }
+
+ private:
+  // The lists of a tile, kept from one loop to the next: (i, n, partners) runs and their factors.
+  struct KeptLists {
+    std::vector<std::uint32_t> lists;
+    std::vector<float> factors;
+    void add(std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F) {
+      lists.push_back(i);
+      lists.push_back(static_cast<std::uint32_t>(js.size()));
+      lists.insert(lists.end(), js.begin(), js.end());
+      factors.insert(factors.end(), F.begin(), F.end());
+    }
+    template <class F>
+    void replay(F& f) {
+      float* at = factors.data();
+      for (std::size_t k = 0; k < lists.size();) {
+        const std::uint32_t i = lists[k], n = lists[k + 1];
+        f(i, std::span<const std::uint32_t>(lists.data() + k + 2, n), std::span<float>(at, n));
+        at += n;
+        k += 2 + std::size_t{n};
+      }
+    }
+    void clear() {
+      lists.clear();
+      factors.clear();
+    }
+    void copy(const KeptLists& o) {
+      lists.assign(o.lists.begin(), o.lists.end());
+      factors.assign(o.factors.begin(), o.factors.end());
+    }
+    void swap(KeptLists& o) {
+      lists.swap(o.lists);
+      factors.swap(o.factors);
+    }
+  };
+
+  // Whether this loop is the first (it counts the pairs and notes their owners); summarises the
+  // tiles and schedules them once per evaluation.
+  bool begin_loop() const {
+    const bool count = !counted_;  // in the first loop only: one atomic add per tile, not per list
+    counted_ = true;                // (threads adding per list contended for the counter's cache line)
+    if (!summarised_) summarise_tiles();
+    return count;
+  }
+
+  // The first loop notes which particles own a pair (each particle is visited by one thread); the
+  // loops after it skip the others, whose tests and scans would find the same nothing (the force
+  // loop of a 100k ring's block run ~14% faster against the gradient loop, 2 threads).
+  template <class F>
+  std::size_t visit_particle(std::uint32_t i, bool far, FactorUse use, bool count, F&& f) const {
+    if (!count && !owns_pairs_[i]) return 0;
+    const std::size_t found = list_of(i, far, use, f);
+    if (count) owns_pairs_[i] |= static_cast<char>(found > 0);
+    return found;
+  }
+
+  // Far pairs: serial, in tile order, in the tiles that hold a particle reaching beyond the
+  // adjacent tiles (a serial test of every particle in each loop was ~3% of a 2-thread block run,
+  // the other thread idle).
+  template <class Visit>
+  void visit_far(Visit&& visit, bool count) const {
     std::size_t far_pairs = 0;
     for (std::size_t t = 0; t < far_tile_.size(); ++t) {
       if (!far_tile_[t]) continue;
@@ -90,7 +182,6 @@ class ScannedPairs {
     if (count) found_ += far_pairs;
   }
 
- private:
   int reach_of_h(double h) const { return cells_within(grid_, 2.0 * h); }
   int reach_of(std::size_t i) const { return reach_of_h(h_[i]); }
 
@@ -125,6 +216,7 @@ class ScannedPairs {
       far_tile_[t] = reach_of_h(widest) > tiles_.tile_cells;
       idle_tile_[t] = filtered && !writable && !writable_.any_within_box(grid_, lo, hi, 2.0 * widest);
     }, {}, 1);
+    jobs_.emplace(tiles_.tile_count, [&](std::size_t t) { return tiles_.tile_start[t + 1] > tiles_.tile_start[t] && !idle_tile_[t]; });
     summarised_ = true;
   }
 
@@ -212,6 +304,7 @@ class ScannedPairs {
   mutable std::vector<char> far_tile_, idle_tile_;
   mutable std::vector<char> owns_pairs_;  // per particle, from the first loop
   mutable bool summarised_ = false;
+  mutable std::optional<TileJobs> jobs_;  // the busy tiles' schedule
 };
 
 }  // namespace sphdisk

@@ -6,11 +6,13 @@
 // Determinism: every loop body writes only its own element, and reductions combine fixed-size
 // blocks in block order, so results are bit-identical for any thread count.
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstring>
 #include <memory>
 #include <type_traits>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "parallel/trace.hpp"
@@ -110,6 +112,65 @@ void for_each_coloured(const std::vector<std::size_t>& colour_start, F&& f, std:
     const std::size_t first = colour_start[c];
     for_each(colour_start[c + 1] - first, [&](std::size_t k) { f(first + k); }, trace_label, 1);
   }
+}
+
+// Jobs [0, n) that may run only after some earlier ones: depends(k, need) calls need(j) for each
+// job j < k that must have finished before job k starts. A thread takes the first job, among the
+// next kJobWindow not yet taken, whose dependencies have finished (one that waited would hold its
+// thread idle: the next job often depends on the one just taken). With dependencies that join
+// every two jobs writing to common data, each datum sees its writes in job order for any thread
+// count. No deadlock: only ready jobs are taken, and the earliest job not taken becomes ready once
+// the running jobs finish. Unlike colours, no barrier holds all threads until the slowest job of
+// a colour ends.
+inline constexpr std::size_t kJobWindow = 32;
+
+template <class Depends, class F>
+void for_each_after(std::size_t n, Depends&& depends, F&& f, std::string_view trace_label = {}) {
+  if (n == 0) return;
+  const auto done = std::make_unique<std::atomic<unsigned char>[]>(n);
+  const auto taken = std::make_unique<std::atomic<unsigned char>[]>(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    done[k].store(0, std::memory_order_relaxed);
+    taken[k].store(0, std::memory_order_relaxed);
+  }
+  std::atomic<std::size_t> first_open{0};  // every job before it is taken
+  std::atomic<std::size_t> finished{0};
+  const auto ready = [&](std::size_t k) {
+    bool yes = true;
+    depends(k, [&](std::size_t j) { yes = yes && done[j].load(std::memory_order_acquire); });
+    return yes;
+  };
+  const auto work = [&] {
+    TraceScope scope(trace_label);
+    for (unsigned idle = 0; finished.load(std::memory_order_acquire) < n;) {
+      std::size_t k = first_open.load(std::memory_order_acquire);
+      const std::size_t end = std::min(n, k + kJobWindow);
+      for (; k < end; ++k) {
+        if (taken[k].load(std::memory_order_relaxed) || !ready(k)) continue;
+        unsigned char expected = 0;
+        if (taken[k].compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) break;
+      }
+      if (k == end) {  // nothing ready: wait for a running job
+        if (++idle > 4096) std::this_thread::yield();
+        continue;
+      }
+      idle = 0;
+      // Move the front past the jobs taken (any thread may; it only grows).
+      for (std::size_t open = first_open.load(std::memory_order_acquire);
+           open < n && taken[open].load(std::memory_order_acquire);) {
+        if (first_open.compare_exchange_weak(open, open + 1, std::memory_order_acq_rel)) ++open;
+      }
+      f(k);
+      done[k].store(1, std::memory_order_release);
+      finished.fetch_add(1, std::memory_order_acq_rel);
+    }
+  };
+#ifdef SPHDISK_HAVE_OPENMP
+#pragma omp parallel
+  work();
+#else
+  work();
+#endif
 }
 
 // Deterministic reduction: blocks of kBlock elements are reduced in index order, then the block

@@ -39,10 +39,11 @@ struct ForceScratch {
 //   a_i += m_j X . g,  a_j -= m_i X . g,   X = S_i / rho_j + S_j / rho_i - (P_i/rho_i^2 + P_j/rho_j^2) I,
 // with g = grad_i W_ij = -grad_j W_ij (or G_ij), and the pressure work (P/rho^2) m (v_i - v_j) . g
 // for both, as (v_j - v_i) . grad_j W = (v_i - v_j) . g.
-template <int D, class Pairs>
-void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, ForceScratch& scratch,
-                           bool with_gravity = true) {
-  const std::size_t m = pairs.writable();
+// Before the pair terms: the per-particle factors and the writable particles' accelerations set to
+// gravity (or zero); returns what the list loop reads.
+template <int D>
+ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsParams& phys, ForceScratch& scratch,
+                                bool with_gravity) {
   const bool with_pressure = phys.eos != EquationOfState::None;
   auto& inv_rho = scratch.inv_rho;
   auto& Pr = scratch.p_over_rho2;
@@ -53,18 +54,30 @@ void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsPar
     if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
-  const ForceListData<D> d{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
-                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.data(), m, with_pressure,
-                           phys.force_correction};
-  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
+  return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
+                          inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.data(), m, with_pressure,
+                          phys.force_correction};
+}
+
+// The list loop's body: f(i, js, F) of Pairs::for_each_list.
+template <int D>
+auto force_list_body(Particles<D>& p, const ForceListData<D>& d) {
+  return [&p, d](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     Vec<D> ai;
     double du_i = 0.0;
     add_force_list(d, i, js, std::span<const float>(F), ai, du_i);  // list_sums.hpp
-    if (i < m) {
+    if (i < d.writable) {
       p.acc[i] += ai;
       p.du_dt[i] += du_i;
     }
-  }, FactorUse::Read, "forces");
+  };
+}
+
+template <int D, class Pairs>
+void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, ForceScratch& scratch,
+                           bool with_gravity = true) {
+  const ForceListData<D> d = prepare_forces(p, pairs.writable(), phys, scratch, with_gravity);
+  pairs.for_each_list(force_list_body(p, d), FactorUse::Read, "forces");
 }
 
 }  // namespace sphdisk

@@ -35,16 +35,30 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
 // the list's terms to sum_i and to the writable partners' sums. Sums are kept for the writable
 // particles (pairs.writable()) and zeroed first, in parallel (grow_snug: entries beyond the
 // writable ones are stale).
-template <class Pairs, class T, class AddList>
-void sum_pair_lists(const Pairs& pairs, std::vector<T>& sums, AddList&& add_list) {
-  const std::size_t m = pairs.writable();
+// The far pairs come first (FarPairs::First), so that a particle's sums are complete once the tiles
+// around it have passed (pair_scan.hpp joins the force loop to the gradient loop that way).
+template <class T>
+void zero_sums(std::size_t m, std::vector<T>& sums) {
   grow_snug(sums, m);
   par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
-  pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
+}
+
+// The list loop's body: f(i, js, F) of Pairs::for_each_list.
+template <class T, class AddList>
+auto sum_lists_into(std::vector<T>& sums, std::size_t m, AddList add_list) {
+  return [&sums, m, add_list](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     T sum_i{};
     add_list(i, js, std::span<const float>(F), sum_i);
     if (i < m) accumulate(sums[i], sum_i);
-  }, FactorUse::Read, "velocity_gradient");
+  };
+}
+
+template <class Pairs, class T, class AddList>
+void sum_pair_lists(const Pairs& pairs, std::vector<T>& sums, AddList&& add_list) {
+  const std::size_t m = pairs.writable();
+  zero_sums(m, sums);
+  pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), FactorUse::Read, "velocity_gradient",
+                      FarPairs::First);
 }
 
 // Per-particle sums over neighbours of terms in dv = v_j - v_i and dx = x_i - x_j weighted by
@@ -67,15 +81,14 @@ void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vec
   });
 }
 
-// Eq. 8's V and the moment matrix M of every writable particle (the list loops: list_sums.hpp).
-template <int D, class Pairs>
-void sum_gradients(const Particles<D>& p, const Pairs& pairs, std::vector<GradientSums<D>>& sums) {
-  sum_pair_lists(pairs, sums, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
-                                  GradientSums<D>& sum_i) {
-    // (sums is sized by sum_pair_lists before the first list)
-    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), pairs.writable()};
+// Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
+// sized for the m writable particles.
+template <int D>
+auto gradient_pair_terms(const Particles<D>& p, std::vector<GradientSums<D>>& sums, std::size_t m) {
+  return [&p, &sums, m](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, GradientSums<D>& sum_i) {
+    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), m};
     add_gradient_list(d, i, js, F, sum_i);
-  });
+  };
 }
 
 // The gradient made exact for linear velocity fields on any particle set: V M^-1. M is the
@@ -117,25 +130,28 @@ void add_neighbour_corrected_terms(Mat<D>& H, const Mat<D>& C_other, double f, c
     for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
 }
 
+// Particle i's stress and heating from its complete gradient sums g.
+template <int D>
+void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, const PhysicsParams& phys) {
+  // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
+  // so that kinetic + internal energy stay exactly conserved.
+  const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys));
+  if (phys.force_correction) {
+    const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));
+    p.du_dt[i] = 0.5 * double_dot(S, g.V * C);  // C symmetric: V C_i^T = V C_i
+  } else {
+    // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
+    // energy stay exactly conserved whichever gradient sets the stress.
+    p.du_dt[i] = double_dot(S, g.V);
+  }
+}
+
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
 template <int D, class Pairs>
 void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, std::vector<GradientSums<D>>& sums) {
-  sum_gradients(p, pairs, sums);
-  par::for_each(pairs.writable(), [&](std::size_t i) {
-    const GradientSums<D>& g = sums[i];
-    store(p.stress[i], kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys));
-    // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
-    // so that kinetic + internal energy stay exactly conserved.
-    const Mat<D> S = as_double(p.stress[i]);
-    if (phys.force_correction) {
-      store(p.correction[i], correction_from_moments(g.M));
-      p.du_dt[i] = 0.5 * double_dot(S, g.V * as_double(p.correction[i]));  // C symmetric: V C_i^T = V C_i
-    } else {
-      // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
-      // energy stay exactly conserved whichever gradient sets the stress.
-      p.du_dt[i] = double_dot(S, g.V);
-    }
-  }, "velocity_gradient");
+  const std::size_t m = pairs.writable();
+  sum_pair_lists(pairs, sums, gradient_pair_terms(p, sums, m));
+  par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
 }
 
 // The second half of the heating with the force correction; reads every neighbour's p.correction,

@@ -193,6 +193,61 @@ TEST(PairScan, SameOrderOfPairTermsForAnyThreadCount) {
   for (int threads : {2, 3, 4}) EXPECT_EQ(sums(threads), one) << threads << " threads";
 }
 
+// The two loops joined (for_each_list_joined, tile_jobs.hpp) hand every particle the terms of the
+// loops run one after the other (the first with the far pairs first, the second with them last), in
+// the same order, for any thread count; each writable particle is settled once, after every term of
+// the first loop that reaches it, and before any term of the second that reaches it or its partner.
+// The terms are recorded per particle without locks: jobs that ran together on common particles
+// would lose or reorder them. Varying h with wide particles (far pairs), 3,000 of 4,000 writable.
+TEST(PairScan, JoinedLoopsGiveTheSeparateLoopsTermsInOrder) {
+  ScanSetup<2> s(with_smoothing_lengths(test::random_particles<2>(4000, 57, true), 0.01, false, 5), 0.01, false, 3000, 1);
+  const std::size_t n = s.p.size(), m = 3000;
+  using Terms = std::vector<std::vector<std::uint32_t>>;  // per particle: its partners, in order
+  const auto record = [](Terms& into, std::uint32_t i, std::span<const std::uint32_t> js) {
+    for (const std::uint32_t j : js) {
+      into[i].push_back(j);
+      into[j].push_back(i);
+    }
+  };
+  Terms first_apart(n), second_apart(n);
+  s.with_pairs([&](const auto& pairs) {
+    pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float>) { record(first_apart, i, js); },
+                        FactorUse::Read, {}, FarPairs::First);
+    pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float>) { record(second_apart, i, js); },
+                        FactorUse::Read, {}, FarPairs::Last);
+  });
+  for (int threads : {1, 3}) {
+    par::set_threads(threads);
+    Terms first(n), second(n);
+    std::vector<int> settled(n, 0);
+    std::vector<std::size_t> seen_when_settled(n, 0);
+    bool settled_in_time = true;
+    s.with_pairs([&](const auto& pairs) {
+      pairs.for_each_list_joined(
+          [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float>) {
+            for (const std::uint32_t j : js) settled_in_time &= !settled[i] && !settled[j];
+            record(first, i, js);
+          },
+          [&](std::uint32_t i) {
+            ++settled[i];
+            seen_when_settled[i] = first[i].size();
+          },
+          [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float>) {
+            for (const std::uint32_t j : js) settled_in_time &= (i >= m || settled[i]) && (j >= m || settled[j]);
+            record(second, i, js);
+          });
+    });
+    par::set_threads(0);
+    EXPECT_TRUE(settled_in_time) << threads << " threads";
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(first[i], first_apart[i]) << "particle " << i << ", " << threads << " threads";
+      ASSERT_EQ(second[i], second_apart[i]) << "particle " << i << ", " << threads << " threads";
+      ASSERT_EQ(settled[i], i < m ? 1 : 0) << "particle " << i;
+      if (i < m) ASSERT_EQ(seen_when_settled[i], first[i].size()) << "particle " << i << " settled before its last term";
+    }
+  }
+}
+
 namespace {
 
 // Rates with pairs searched anew equal those with stored lists, with viscosity and pressure,

@@ -1,0 +1,30 @@
+#pragma once
+// The viscous stress (viscous_stress.hpp) and the accelerations (forces.hpp) in one pass over the
+// pairs, for pair forms that join two loops (Pairs::for_each_list_joined, pair_scan.hpp: pairs
+// searched anew are then searched once for both loops): the same terms in the same order, so the
+// same bits, as compute_viscous_stress followed by compute_accelerations. Not with the force
+// correction, whose heating loop must run between the two.
+#include <vector>
+
+#include "core/particles.hpp"
+#include "physics/forces.hpp"
+#include "physics/physics_params.hpp"
+#include "physics/viscous_stress.hpp"
+
+namespace sphdisk {
+
+template <class Pairs>
+concept JoinsLoops = requires { Pairs::kJoinsLoops; };
+
+template <int D, class Pairs>
+void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys,
+                                      std::vector<GradientSums<D>>& sums, ForceScratch& scratch, bool with_gravity) {
+  const std::size_t m = pairs.writable();
+  zero_sums(m, sums);
+  const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);
+  pairs.for_each_list_joined(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m)),
+                             [&](std::uint32_t i) { settle_stress(p, i, sums[i], phys); }, force_list_body(p, d),
+                             "gradient_and_forces");
+}
+
+}  // namespace sphdisk
