@@ -36,7 +36,7 @@ Smoothing smoothing_from_name(std::string_view name);
 
 enum class PairStorage {
   Stored,  // neighbour lists and pair factors built once per evaluation, read by every pair loop (pair_lists.hpp)
-  Rescan,  // nothing stored: every pair loop searches its pairs anew (pair_scan.hpp); less memory, slower
+  Rescan,  // nothing stored: the pair loops search their pairs anew (pair_scan.hpp); less memory, slower
 };
 
 PairStorage pair_storage_from_name(std::string_view name);

@@ -2,8 +2,10 @@
 // Pair loops without stored lists (sph.pair_lists = "rescan"): each pair loop finds every
 // particle's partners anew in the cell grid, as SWIFT does, so no neighbour list or pair factor is
 // kept (the lists and their factors are most of the memory of a run with stored lists,
-// docs/performance.md); the price is the search repeated by every loop and the kernel gradient
-// recomputed for every pair.
+// docs/performance.md); the price is the search repeated by the loops and the kernel gradient
+// recomputed for every pair. The velocity-gradient and force loops can share one search
+// (for_each_list_joined): a tile's lists are kept from its gradient pass to its force pass, about
+// two tile rows later (tile_jobs.hpp), so only the tiles in between hold lists.
 //
 // Each pair with |x_i - x_j| < 2 max(h_i, h_j) and a writable particle is evaluated once, by its
 // owner: the first particle in cell order when the pair lies within its own support 2 h, else the
