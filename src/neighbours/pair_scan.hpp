@@ -85,7 +85,7 @@ class ScannedPairs {
   void for_each_list_joined(First&& first, Settle&& settle, Second&& second, std::string_view trace_label = {}) const {
     const bool count = begin_loop();
     const std::size_t m = tiles_.writable;
-    std::vector<KeptLists> far_kept(1);
+    KeptLists far_kept;
     std::vector<KeptLists> kept(tiles_.tile_start.size() - 1);
     const auto keep_then = [&](KeptLists& into, std::uint32_t i, bool far) {
       return visit_particle(i, far, FactorUse::Read, count, [&](std::uint32_t i_, std::span<const std::uint32_t> js, std::span<float> F) {
@@ -93,7 +93,7 @@ class ScannedPairs {
         first(i_, js, F);
       });
     };
-    visit_far([&](std::uint32_t i, bool far) { return keep_then(far_kept[0], i, far); }, count);
+    visit_far([&](std::uint32_t i, bool far) { return keep_then(far_kept, i, far); }, count);
     jobs_->run_joined([&](std::uint32_t t) {
       // Written where they grow on this thread, then kept at their size (growing each tile's own
       // lists moved them ~2% of a block run, and left them up to twice their size).
@@ -108,9 +108,9 @@ class ScannedPairs {
         if (tiles_.order[s] < m) settle(tiles_.order[s]);
     }, [&](std::uint32_t t) {
       kept[t].replay(second);
-      KeptLists{}.swap(kept[t]);  // freed: the memory stays bounded by the tiles in flight
+      kept[t] = {};  // freed: the memory stays bounded by the tiles in flight
     }, trace_label);
-    far_kept[0].replay(second);
+    far_kept.replay(second);
   }
 
  private:
@@ -141,10 +141,6 @@ class ScannedPairs {
     void copy(const KeptLists& o) {
       lists.assign(o.lists.begin(), o.lists.end());
       factors.assign(o.factors.begin(), o.factors.end());
-    }
-    void swap(KeptLists& o) {
-      lists.swap(o.lists);
-      factors.swap(o.factors);
     }
   };
 
