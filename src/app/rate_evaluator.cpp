@@ -10,12 +10,12 @@
 #include "neighbours/involved_particles.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
-#include "physics/viscous_rates.hpp"
 #include "parallel/nth_values.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/list_factors.hpp"
 #include "physics/smoothing_length.hpp"
+#include "physics/viscous_rates.hpp"
 #include "physics/viscous_stress.hpp"
 
 namespace sphdisk {

@@ -88,8 +88,6 @@ class TileJobs {
     }, trace_label);
   }
 
-  std::size_t size() const { return busy_.size(); }
-
  private:
   static constexpr std::uint32_t kNone = UINT32_MAX;
 
