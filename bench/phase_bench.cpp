@@ -40,7 +40,7 @@ struct Fixture {
   CellGrid<2> grid;
   PairLists pairs;
   PairFactors factors;
-  std::vector<GradientSums<2>> sums;
+  GradientSumsArray<2> sums;
   ForceScratch scratch;
 
   // The neighbour search of a run with constant h: tile order, then each pair once (rate_evaluator.cpp).

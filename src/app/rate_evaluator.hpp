@@ -115,7 +115,7 @@ class RateEvaluator {
   const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
   // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp);
   // empty after a lean() evaluation.
-  const std::vector<GradientSums<D>>& gradient_sums() const { return gradient_sums_; }
+  const GradientSumsArray<D>& gradient_sums() const { return gradient_sums_; }
   std::size_t evaluations() const { return evaluations_; }
   std::size_t pair_interactions() const { return pairs_; }  // pairs evaluated (each once per pair loop), summed over evaluations
   std::size_t particle_updates() const { return updates_; }  // particles given new rates, summed over evaluations
@@ -181,7 +181,7 @@ class RateEvaluator {
   CandidateFilter writable_filter_;  // Rescan: where the writable particles are (candidate_filter.hpp)
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
-  std::vector<GradientSums<D>> gradient_sums_;
+  GradientSumsArray<D> gradient_sums_;
   std::vector<Mat<D>> heating_scratch_;
   ForceScratch force_scratch_;
   bool gravity_ = true;

@@ -43,4 +43,39 @@ bool operator==(const DefaultInitAllocator<T>&, const DefaultInitAllocator<U>&) 
 template <class T>
 using OverwriteVector = std::vector<T, DefaultInitAllocator<T>>;
 
+// For types with default member initialisers that are still plain data (Mat, Vec and structs of
+// them: trivially copyable and destructible, so the allocation itself holds their objects, C++20
+// implicit object creation): resize constructs nothing at all, not even those initialisers. For
+// per-particle sums that a parallel loop zeroes anyway: the serial zero-fill of a fresh buffer (with
+// its page faults) was 2.8% of a two-thread block run's main thread without stored lists, which
+// frees the gradient sums after every evaluation (perf, docs/performance.md session 31).
+template <class T>
+struct NoInitAllocator : std::allocator<T> {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>,
+                "NoInitAllocator leaves objects unconstructed: plain data only");
+  using value_type = T;
+  NoInitAllocator() noexcept = default;
+  template <class U>
+  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
+  template <class U>
+  struct rebind {
+    using other = NoInitAllocator<U>;
+  };
+  template <class U>
+  void construct(U*) noexcept {}
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+template <class T, class U>
+bool operator==(const NoInitAllocator<T>&, const NoInitAllocator<U>&) noexcept {
+  return true;
+}
+
+// Entries hold whatever the memory held until written (a new buffer's: anything).
+template <class T>
+using UnsetVector = std::vector<T, NoInitAllocator<T>>;
+
 }  // namespace sphdisk

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <span>
 
+#include "core/overwrite_vector.hpp"
 #include "core/particles.hpp"
 #include "core/vec.hpp"
 #include "physics/moment_correction.hpp"
@@ -27,6 +28,11 @@ template <int D>
 struct GradientSums {
   Mat<D> V, M;
 };
+
+// The writable particles' sums of an evaluation: zeroed in parallel by zero_sums (viscous_stress.hpp),
+// so a new buffer is not zero-filled first (core/overwrite_vector.hpp).
+template <int D>
+using GradientSumsArray = UnsetVector<GradientSums<D>>;
 
 // Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
 // gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each

@@ -18,7 +18,7 @@ concept JoinsLoops = requires { Pairs::kJoinsLoops; };
 
 template <int D, class Pairs>
 void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys,
-                                      std::vector<GradientSums<D>>& sums, ForceScratch& scratch, bool with_gravity) {
+                                      GradientSumsArray<D>& sums, ForceScratch& scratch, bool with_gravity) {
   const std::size_t m = pairs.writable();
   zero_sums(m, sums);
   const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);

@@ -37,15 +37,15 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
 // writable ones are stale).
 // The far pairs come first (FarPairs::First), so that a particle's sums are complete once the tiles
 // around it have passed (pair_scan.hpp joins the force loop to the gradient loop that way).
-template <class T>
-void zero_sums(std::size_t m, std::vector<T>& sums) {
+template <class T, class A>
+void zero_sums(std::size_t m, std::vector<T, A>& sums) {
   grow_snug(sums, m);
   par::for_each(m, [&](std::size_t i) { sums[i] = T{}; }, "velocity_gradient");
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.
-template <class T, class AddList>
-auto sum_lists_into(std::vector<T>& sums, std::size_t m, AddList add_list) {
+template <class T, class A, class AddList>
+auto sum_lists_into(std::vector<T, A>& sums, std::size_t m, AddList add_list) {
   return [&sums, m, add_list](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
     T sum_i{};
     add_list(i, js, std::span<const float>(F), sum_i);
@@ -53,8 +53,8 @@ auto sum_lists_into(std::vector<T>& sums, std::size_t m, AddList add_list) {
   };
 }
 
-template <class Pairs, class T, class AddList>
-void sum_pair_lists(const Pairs& pairs, std::vector<T>& sums, AddList&& add_list) {
+template <class Pairs, class T, class A, class AddList>
+void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list) {
   const std::size_t m = pairs.writable();
   zero_sums(m, sums);
   pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), FactorUse::Read, "velocity_gradient",
@@ -84,7 +84,7 @@ void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vec
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
 // sized for the m writable particles.
 template <int D>
-auto gradient_pair_terms(const Particles<D>& p, std::vector<GradientSums<D>>& sums, std::size_t m) {
+auto gradient_pair_terms(const Particles<D>& p, GradientSumsArray<D>& sums, std::size_t m) {
   return [&p, &sums, m](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, GradientSums<D>& sum_i) {
     const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), m};
     add_gradient_list(d, i, js, F, sum_i);
@@ -148,7 +148,7 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
 
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
 template <int D, class Pairs>
-void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, std::vector<GradientSums<D>>& sums) {
+void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums) {
   const std::size_t m = pairs.writable();
   sum_pair_lists(pairs, sums, gradient_pair_terms(p, sums, m));
   par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
