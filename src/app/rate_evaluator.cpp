@@ -41,7 +41,7 @@ constexpr double kInvolvedActive = 0.02;
 constexpr double kInvolvedMost = 0.5;
 
 // Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (8^3 in 3D), ~1,000
-// particles: a colour's tiles lie apart, so what a tile reads of its neighbours is reused only
+// particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is reused only
 // inside the tile (measured 2026-11-30, 100k ring, one thread, constant h, serial build: 0.20 /
 // 0.16 / 0.15 s per evaluation with tiles of 4 / 8 / 16 cells). The tiles also span the supports of all but the widest 1% of
 // particles, whose pairs reaching beyond the next tile are evaluated after the others. The tile

@@ -16,19 +16,15 @@ namespace {
 constexpr std::size_t kBlock = 1024;  // lists per work unit of half_lists_inside
 
 template <int D>
-constexpr int colours(TileWrites writes) {
-  if (writes == TileWrites::AllNeighbours) return D == 2 ? 9 : 27;
-  return D == 2 ? 6 : 18;
-}
+constexpr int kColours = D == 2 ? 6 : 18;
 
-// The colour of the tile at global tile coordinates g (see pair_lists.hpp): tiles of one colour lie
-// three apart along x (and y, z where they write to the tiles on both sides) and two apart along
-// the last axis where they write only forward.
+// The colour of the tile at global tile coordinates g for TileWrites::Forward (see pair_lists.hpp):
+// tiles of one colour lie three apart along x (and y in 3D), where they write to the tiles on both
+// sides, and two apart along the last axis, where they write only forward.
 template <int D>
-int colour_of(const std::array<int, D>& g, TileWrites writes) {
-  const int last = writes == TileWrites::AllNeighbours ? 3 : 2;
-  if constexpr (D == 2) return g[0] % 3 + 3 * (g[1] % last);
-  else return g[0] % 3 + 3 * (g[1] % 3) + 9 * (g[2] % last);
+int colour_of(const std::array<int, D>& g) {
+  if constexpr (D == 2) return g[0] % 3 + 3 * (g[1] % 2);
+  else return g[0] % 3 + 3 * (g[1] % 3) + 9 * (g[2] % 2);
 }
 
 template <int D>
@@ -128,14 +124,18 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
     });
   }, "neighbour_search", 1);
 
-  // Colours: non-empty tiles grouped by colour, in tile order inside a colour.
-  const int ncolours = colours<D>(writes);
+  // Colours (Forward only; tiles that write to all their neighbours run as ordered jobs,
+  // tile_jobs.hpp): non-empty tiles grouped by colour, in tile order inside a colour.
+  out.tiles_by_colour.clear();
+  out.colour_start.clear();
+  if (writes != TileWrites::Forward) return;
+  const int ncolours = kColours<D>;
   out.colour_start.assign(static_cast<std::size_t>(ncolours) + 1, 0);
   std::vector<int> colour(ntiles);
   for (std::size_t t = 0; t < ntiles; ++t) {
     std::array<int, D> gt;
     for (std::size_t k = 0; k < D; ++k) gt[k] = L.first[k] + L.coord[t][k];
-    colour[t] = colour_of<D>(gt, writes);
+    colour[t] = colour_of<D>(gt);
     if (out.tile_start[t + 1] > out.tile_start[t]) ++out.colour_start[static_cast<std::size_t>(colour[t]) + 1];
   }
   for (int c = 0; c < ncolours; ++c) out.colour_start[static_cast<std::size_t>(c) + 1] += out.colour_start[static_cast<std::size_t>(c)];

@@ -14,9 +14,8 @@
 // locks or atomics, and every particle receives its pair terms in a fixed order: colour by colour
 // (the tiles that write to it all have different colours), inside a tile in cell order. Half lists
 // made from gather lists (variable h) may give a pair to its second particle; their tiles write to
-// every adjacent tile (TileWrites::AllNeighbours) and run as jobs that keep tile order among the
-// tiles that write to a common particle (tile_jobs.hpp; colours (tx mod 3, ty mod 3) are kept for
-// the tests). Far pairs (tiles not adjacent: a particle whose support is much wider than a tile)
+// every adjacent tile (TileWrites::AllNeighbours) and run, uncoloured, as jobs that keep tile order
+// among the tiles that write to a common particle (tile_jobs.hpp). Far pairs (tiles not adjacent: a particle whose support is much wider than a tile)
 // follow all tiles, in tile order (or precede them: FarPairs::First). Nothing in the order
 // depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
 // relative order).
@@ -40,7 +39,9 @@ namespace sphdisk {
 // Which tiles a tile's pairs write to: itself and the tiles after it (x-1, x+1 and the next row;
 // half lists searched with one radius, a pair owned by its first particle), or every adjacent tile
 // (half lists from gather lists, and pairs searched anew by the pair loops, pair_scan.hpp: the
-// owner may come second). The second needs 9 colours in 2D (27 in 3D) instead of 6 (18).
+// owner may come second). Only the first is coloured (6 colours in 2D, 18 in 3D); the second runs
+// as ordered jobs (tile_jobs.hpp), which keep the order of a particle's terms without a barrier
+// between colours.
 enum class TileWrites { Forward, AllNeighbours };
 
 struct PairLists {
@@ -51,22 +52,24 @@ struct PairLists {
   NeighbourLists near, far;
   std::vector<std::uint32_t> order;       // particles in tile order
   std::vector<std::size_t> tile_start;    // tile t holds order[tile_start[t] .. tile_start[t + 1])
-  std::vector<std::uint32_t> tiles_by_colour;  // tile indices, colour by colour
-  std::vector<std::size_t> colour_start;  // colour c: tiles_by_colour[colour_start[c] .. colour_start[c + 1])
+  // TileWrites::Forward only (empty otherwise): tile indices colour by colour, colour c being
+  // tiles_by_colour[colour_start[c] .. colour_start[c + 1]).
+  std::vector<std::uint32_t> tiles_by_colour;
+  std::vector<std::size_t> colour_start;
   std::size_t writable = 0;               // pair terms are wanted for particles [0, writable) only
   std::vector<std::uint32_t> slot;        // each particle's place in cell order (its grid slot)
   std::vector<std::int32_t> tile;         // each particle's tile coordinates (D per particle)
   std::array<int, 3> tile_count{1, 1, 1};  // tiles per dimension (tile t = x + count_x (y + count_y z))
   int tile_cells = 1;                     // cells per tile and dimension
   double tile_length = 0;                 // tile_cells x the grid's cell size
-  TileWrites writes = TileWrites::Forward;  // which tiles a tile's pairs may write to (the colouring)
+  TileWrites writes = TileWrites::Forward;  // which tiles a tile's pairs may write to (the schedule)
 
   std::size_t total() const { return near.total() + far.total(); }  // pairs; also the pair-factor count
   std::size_t bytes() const;
 };
 
 
-// Step 1: the tile order of the grid's particles (order, tiles, colours, slots) with tiles of
+// Step 1: the tile order of the grid's particles (order, tiles, slots; colours for Forward) with tiles of
 // tile_cells^D cells; pair terms are wanted for the particles [0, writable).
 template <int D>
 void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writable, PairLists& out,

@@ -11,9 +11,9 @@
 // owner: the first particle in cell order when the pair lies within its own support 2 h, else the
 // second (then it lies within the second's support). So every particle finds the pairs it owns
 // within its own support radius and no transposition is needed; but an owner may write to a
-// partner before it, in any adjacent tile, so the tiles are coloured for writes to all their
-// neighbours (TileWrites::AllNeighbours, pair_lists.hpp). Pairs whose tiles are not adjacent (a
-// support wider than a tile) are evaluated after all colours, in tile order. Each particle thus gets
+// partner before it, in any adjacent tile, so the tiles are scheduled for writes to all their
+// neighbours (TileWrites::AllNeighbours, pair_lists.hpp; tile_jobs.hpp). Pairs whose tiles are not
+// adjacent (a support wider than a tile) are evaluated before or after all tiles, in tile order. Each particle thus gets
 // its pair terms in an order fixed by positions, IDs, smoothing lengths and the lattice: the same
 // bits for any thread or rank count. With adaptive h these are also the stored lists' owners,
 // schedule and partner order, so the two give the same bits (test_pair_scan.cpp); with one smoothing

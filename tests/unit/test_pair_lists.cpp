@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 #include <set>
 #include <utility>
@@ -128,14 +129,19 @@ TEST(PairLists, PairsBeyondTheNextTileAreFarPairs) {
   check_every_pair_once(test::random_particles<3>(1500, 16, false), 0.12, 1000, 1, true);
 }
 
-// Within a colour no two tiles write to the same particle (so they may run concurrently).
+// Within a colour no two tiles write to the same particle (so they may run concurrently): the
+// coloured schedule of half lists searched with one radius (TileWrites::Forward).
 template <int D>
-void check_colours_write_disjoint(Particles<D> particles, double radius, int tile_cells, double spread = 0) {
-  const std::size_t n = particles.size();
-  HalfListSetup<D> s(std::move(particles), radius, n, tile_cells, 0, spread);
-  if (spread > 0) ASSERT_GT(pairs_owned_by_second(s), n / 10);  // pairs that write backwards
-  const PairLists& pl = s.pairs;
-  ASSERT_GT(pl.colour_start.size(), 2u);
+void check_colours_write_disjoint(Particles<D> p, double radius, int tile_cells) {
+  const std::size_t n = p.size();
+  CellGrid<D> grid;
+  build_cell_grid(p.pos, p.id, 0.5 * radius, grid);
+  PairLists pl;
+  build_tile_order(grid, tile_cells, n, pl);
+  build_half_neighbour_lists(grid, p.pos, radius, pl.slot, n, pl.order, pl.near);
+  no_far_pairs(pl);
+  ASSERT_EQ(pl.colour_start.size(), D == 2 ? 7u : 19u);
+  ASSERT_EQ(pl.tiles_by_colour.size(), pl.colour_start.back());
   for (std::size_t c = 0; c + 1 < pl.colour_start.size(); ++c) {
     std::vector<int> writer(n, -1);
     for (std::size_t k = pl.colour_start[c]; k < pl.colour_start[c + 1]; ++k) {
@@ -153,10 +159,35 @@ void check_colours_write_disjoint(Particles<D> particles, double radius, int til
 }
 
 TEST(PairLists, TilesOfOneColourWriteToDisjointParticles) {
-  for (int tile_cells : {1, 2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 17, true), 0.03, tile_cells);
-  for (int tile_cells : {1, 2}) check_colours_write_disjoint(test::random_particles<3>(3000, 23, true), 0.08, tile_cells);
-  for (int tile_cells : {1, 2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 24, true), 0.03, tile_cells, 0.3);
-  check_colours_write_disjoint(test::random_particles<3>(3000, 25, true), 0.08, 2, 0.3);
+  // Cells of half the radius: tiles of two or more cells hold every pair in adjacent tiles (the
+  // direct search has no far pairs; the run's tiles span 16 cells or more).
+  for (int tile_cells : {2, 3}) check_colours_write_disjoint(test::random_particles<2>(3000, 17, true), 0.03, tile_cells);
+  check_colours_write_disjoint(test::random_particles<3>(3000, 23, true), 0.08, 2);
+}
+
+// Half lists from gather lists (TileWrites::AllNeighbours) are not coloured: their tiles run as
+// ordered jobs (tile_jobs.hpp, test_tile_jobs.cpp), which rely on every near pair joining particles
+// of tiles within one of each other along every axis.
+template <int D>
+void check_near_pairs_in_adjacent_tiles(Particles<D> particles, double radius, int tile_cells, double spread) {
+  const std::size_t n = particles.size();
+  HalfListSetup<D> s(std::move(particles), radius, n, tile_cells, 0, spread);
+  ASSERT_GT(pairs_owned_by_second(s), n / 10);  // pairs that write backwards
+  const PairLists& pl = s.pairs;
+  EXPECT_TRUE(pl.colour_start.empty());
+  std::size_t pairs = 0;
+  for (std::size_t q = 0; q < pl.order.size(); ++q) {
+    const std::uint32_t i = pl.order[q];
+    for (const std::uint32_t* it = pl.near.begin(q); it != pl.near.end(q); ++it, ++pairs)
+      for (std::size_t k = 0; k < D; ++k)
+        ASSERT_LE(std::abs(pl.tile[D * i + k] - pl.tile[D * *it + k]), 1) << "pair " << i << ", " << *it;
+  }
+  EXPECT_GT(pairs, n);
+}
+
+TEST(PairLists, NearPairsOfGatherListsLieInAdjacentTiles) {
+  for (int tile_cells : {1, 2, 3}) check_near_pairs_in_adjacent_tiles(test::random_particles<2>(3000, 24, true), 0.03, tile_cells, 0.3);
+  check_near_pairs_in_adjacent_tiles(test::random_particles<3>(3000, 25, true), 0.08, 2, 0.3);
 }
 
 // A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.

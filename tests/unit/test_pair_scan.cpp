@@ -147,32 +147,6 @@ TEST(PairScan, PairsOfTwoUnwritableParticlesLeftOut) {
   check_every_pair_once(test::random_particles<3>(1500, 49, true), 0.05, false, 700, 2, true);
 }
 
-// A tile's pairs write to it and its adjacent tiles only (checked above: non-adjacent pairs come
-// after the colours), so tiles of one colour must lie at least three tiles apart along some axis.
-TEST(PairScan, TilesOfOneColourThreeApart) {
-  for (int tile_cells : {1, 2}) {
-    ScanSetup<2> s(with_smoothing_lengths(test::random_particles<2>(3000, 50, false), 0.01, false, 5), 0.01, false, 3000,
-                   tile_cells);
-    ScanSetup<3> s3(with_smoothing_lengths(test::random_particles<3>(3000, 51, false), 0.04, false, 5), 0.04, false, 3000,
-                    tile_cells);
-    auto check = [](const auto& tiles, int dims) {
-      ASSERT_EQ(tiles.colour_start.size(), dims == 2 ? 10u : 28u);
-      // A tile's coordinates: those of its first particle.
-      auto coord = [&](std::uint32_t t, int k) { return tiles.tile[static_cast<std::size_t>(dims) * tiles.order[tiles.tile_start[t]] + static_cast<std::size_t>(k)]; };
-      for (std::size_t c = 0; c + 1 < tiles.colour_start.size(); ++c)
-        for (std::size_t a = tiles.colour_start[c]; a < tiles.colour_start[c + 1]; ++a)
-          for (std::size_t b = a + 1; b < tiles.colour_start[c + 1]; ++b) {
-            bool apart = false;
-            for (int k = 0; k < dims; ++k)
-              apart |= std::abs(coord(tiles.tiles_by_colour[a], k) - coord(tiles.tiles_by_colour[b], k)) >= 3;
-            ASSERT_TRUE(apart) << "colour " << c << ": tiles " << tiles.tiles_by_colour[a] << " and " << tiles.tiles_by_colour[b];
-          }
-    };
-    check(s.tiles, 2);
-    check(s3.tiles, 3);
-  }
-}
-
 // A sum whose bits depend on the order of its terms comes out the same on 1-4 threads.
 TEST(PairScan, SameOrderOfPairTermsForAnyThreadCount) {
   ScanSetup<2> s(with_smoothing_lengths(test::random_particles<2>(4000, 52, true), 0.01, false, 5), 0.01, false, 3000, 1);
