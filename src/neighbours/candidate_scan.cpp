@@ -83,6 +83,27 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t keep_avx512(std::uint32_
   return kept;
 }
 
+// Eight entries per round: the partners' h loaded by index (no gathers), the test as a mask, the
+// kept indices and distances packed to the front (in place: a round stores at or before what it
+// has loaded). 2 h and its square as in the scalar test, so the same entries are kept. Whole rounds
+// only, so that no store reaches past entry n (the entries after n are the caller's: pair_scan.hpp
+// keeps its later candidates there); the last, partial round is the scalar loop's.
+__attribute__((target("avx512f,avx512vl"))) std::size_t beyond_avx512(std::uint32_t* idx, double* d2, std::size_t n,
+                                                                       const double* h) {
+  const __m512d two = _mm512_set1_pd(2.0);
+  std::size_t kept = 0, k = 0;
+  for (; n - k >= 8; k += 8) {
+    const __m256i j = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx + k));
+    const __m512d s = _mm512_mul_pd(two, avx512::load_singles(h, avx512::round8(idx + k, 8)));
+    const __m512d r2 = _mm512_loadu_pd(d2 + k);
+    const __mmask8 keep = _mm512_cmp_pd_mask(r2, _mm512_mul_pd(s, s), _CMP_GE_OQ);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(idx + kept), _mm256_maskz_compress_epi32(keep, j));
+    _mm512_storeu_pd(d2 + kept, _mm512_maskz_compress_pd(keep, r2));
+    kept += static_cast<std::size_t>(__builtin_popcount(keep));
+  }
+  return kept + keep_beyond_supports_scalar(idx + k, d2 + k, n - k, h, idx + kept, d2 + kept);
+}
+
 // The meeting point by counting the earlier entries eight at a time (their slots loaded by index:
 // no chain of dependent loads as in a bisection; the list is sorted, so the count stops at the
 // first vector that is not all earlier), then the earlier entries' positions and h loaded and
@@ -234,6 +255,13 @@ EarlierPartners earlier_partners(const std::uint32_t* js, std::size_t n, std::ui
   if (vector_isa() == VectorIsa::avx512) return earlier_avx512(js, n, slot_i, slot, xi, pos, h, limit, lacking);
 #endif
   return earlier_partners_scalar<2>(js, n, slot_i, slot, xi, pos, h, limit, lacking);
+}
+
+std::size_t keep_beyond_supports(std::uint32_t* idx, double* d2, std::size_t n, const double* h) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  if (vector_isa() == VectorIsa::avx512) return beyond_avx512(idx, d2, n, h);
+#endif
+  return keep_beyond_supports_scalar(idx, d2, n, h, idx, d2);
 }
 
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2) {

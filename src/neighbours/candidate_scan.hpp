@@ -99,4 +99,26 @@ EarlierPartners earlier_partners_scalar(const std::uint32_t* js, std::size_t n, 
 // room for n + kScanSlack entries.
 std::size_t keep_within(std::uint32_t* idx, const double* d2, std::size_t n, double r2);
 
+// Keeps the entries k of idx[0, n) and d2[0, n) whose pair lies outside the partner's own support,
+// d2[k] >= (2 h[idx[k]])^2, in order, in place; returns how many. Writes nothing past entry n.
+// (Pairs searched anew, pair_scan.hpp: of i's candidates before it in cell order, the ones whose
+// support covers the pair own it.)
+std::size_t keep_beyond_supports(std::uint32_t* idx, double* d2, std::size_t n, const double* h);
+
+// The scalar version (keep_beyond_supports' fallback and the vector loop's remainder): entries
+// [0, n) of idx and d2 tested, the kept ones written to out_idx and out_d2 (at or before idx, d2:
+// in place), branch-free.
+inline std::size_t keep_beyond_supports_scalar(const std::uint32_t* idx, const double* d2, std::size_t n,
+                                               const double* h, std::uint32_t* out_idx, double* out_d2) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t j = idx[k];
+    const double r2 = d2[k], s = 2.0 * h[j];
+    out_idx[kept] = j;
+    out_d2[kept] = r2;
+    kept += static_cast<std::size_t>(r2 >= s * s);
+  }
+  return kept;
+}
+
 }  // namespace sphdisk

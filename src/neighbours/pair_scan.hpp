@@ -263,20 +263,20 @@ class ScannedPairs {
     };
     if (equal_h_) for_each_candidate_range<D>(grid_, xi, si, scan, &slot_i);
     else for_each_candidate_range<D>(grid_, xi, si, scan);
+    if (!equal_h_ && earlier > 0) {  // a partner before i owns the pair if its support covers it
+      const std::size_t kept = keep_beyond_supports(js.data(), r2.data(), earlier, h_.data());
+      std::copy(js.begin() + static_cast<std::ptrdiff_t>(earlier), js.begin() + static_cast<std::ptrdiff_t>(n),
+                js.begin() + static_cast<std::ptrdiff_t>(kept));
+      std::copy(r2.begin() + static_cast<std::ptrdiff_t>(earlier), r2.begin() + static_cast<std::ptrdiff_t>(n),
+                r2.begin() + static_cast<std::ptrdiff_t>(kept));
+      n = kept + (n - earlier);
+    }
     std::size_t kept = 0;
     const auto keep_if = [&](std::size_t q, bool keep) {  // branch-free, order kept
       js[kept] = js[q];
       r2[kept] = r2[q];
       kept += static_cast<std::size_t>(keep);
     };
-    if (!equal_h_) {  // a partner before i owns the pair if its support covers it
-      for (std::size_t q = 0; q < earlier; ++q) {
-        const double sj = 2.0 * h_[js[q]];
-        keep_if(q, r2[q] >= sj * sj);
-      }
-      for (std::size_t q = earlier; q < n; ++q) keep_if(q, true);
-      n = kept;
-    }
     if (check_tiles) {  // keep the pairs of this pass only
       kept = 0;
       for (std::size_t q = 0; q < n; ++q) keep_if(q, tiles_adjacent<D>(tile_i, tiles_.tile.data() + D * js[q]) != far);

@@ -90,6 +90,40 @@ void check_keep_paths_agree(VectorIsa isa) {
   }
 }
 
+// Dropping the candidates whose own support covers the pair, in place, for every length: the
+// partners' h loaded by index, entries exactly at a support kept (r^2 = (2 h)^2 is outside it), the
+// entries past n left as they were (pair_scan.hpp keeps its later candidates there), and the
+// kept entries the brute-force ones.
+void check_beyond_supports(VectorIsa isa) {
+  std::vector<double> h(200);
+  for (std::size_t j = 0; j < h.size(); ++j) h[j] = 0.125 * static_cast<double>(1 + j % 5);  // 2 h = 0.25 .. 1.25
+  for (std::size_t n = 0; n <= 40; ++n) {
+    std::vector<std::uint32_t> idx(n + kScanSlack);
+    std::vector<double> d2(n + kScanSlack);
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      idx[k] = static_cast<std::uint32_t>((37 * k + 11) % h.size());
+      d2[k] = 0.0625 * static_cast<double>(k % 13);  // hits (2 h)^2 = 0.0625, 0.25, 0.5625, 1 exactly
+    }
+    std::vector<std::uint32_t> expected_idx;
+    std::vector<double> expected_d2;
+    for (std::size_t k = 0; k < n; ++k)
+      if (d2[k] >= 4.0 * h[idx[k]] * h[idx[k]]) {
+        expected_idx.push_back(idx[k]);
+        expected_d2.push_back(d2[k]);
+      }
+    const std::vector<std::uint32_t> tail_idx(idx.begin() + static_cast<std::ptrdiff_t>(n), idx.end());
+    const std::vector<double> tail_d2(d2.begin() + static_cast<std::ptrdiff_t>(n), d2.end());
+    const std::size_t kept = test::on_path(isa, [&] { return keep_beyond_supports(idx.data(), d2.data(), n, h.data()); });
+    ASSERT_EQ(kept, expected_idx.size()) << vector_isa_name(isa) << ", n = " << n;
+    ASSERT_TRUE(std::equal(expected_idx.begin(), expected_idx.end(), idx.begin())) << vector_isa_name(isa) << ", n = " << n;
+    ASSERT_TRUE(std::equal(expected_d2.begin(), expected_d2.end(), d2.begin())) << vector_isa_name(isa) << ", n = " << n;
+    ASSERT_TRUE(std::equal(tail_idx.begin(), tail_idx.end(), idx.begin() + static_cast<std::ptrdiff_t>(n)))
+        << vector_isa_name(isa) << ", n = " << n << ": an entry past n was written";
+    ASSERT_TRUE(std::equal(tail_d2.begin(), tail_d2.end(), d2.begin() + static_cast<std::ptrdiff_t>(n)))
+        << vector_isa_name(isa) << ", n = " << n << ": a distance past n was written";
+  }
+}
+
 }  // namespace
 
 TEST(CandidateScan, VectorAndScalarPathsAgree) {
@@ -192,4 +226,9 @@ TEST(CandidateScan, SameListsWithEitherPath) {
     EXPECT_EQ(hv.offsets, hs.offsets);
     EXPECT_EQ(hv.index, hs.index);
   }
+}
+
+TEST(CandidateScan, KeepBeyondSupportsOnEveryPath) {
+  check_beyond_supports(VectorIsa::baseline);
+  for (const VectorIsa isa : test::vector_paths()) check_beyond_supports(isa);
 }
