@@ -12,9 +12,6 @@
 
 #include "core/vector_isa.hpp"
 
-#ifdef SPHDISK_X86_VECTOR_DISPATCH
-#include <immintrin.h>
-#endif
 
 namespace {
 using namespace sphdisk;
@@ -23,30 +20,38 @@ constexpr int kChains = 12;
 constexpr std::int64_t kRounds = 1 << 20;  // per benchmark iteration
 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
-__attribute__((target("avx512f"), noinline)) double chains_avx512(std::int64_t rounds, double mul, double add) {
-  __m512d a[kChains];
-  for (int k = 0; k < kChains; ++k) a[k] = _mm512_set1_pd(1.0 + 1e-3 * k);
-  const __m512d m = _mm512_set1_pd(mul), c = _mm512_set1_pd(add);
+// W lanes of GCC's vector extension; a * m + c becomes one FMA (this file is compiled with
+// -ffp-contract=fast, bench/CMakeLists.txt; the disassembly shows vfmadd on zmm and ymm registers).
+template <int W>
+struct Lanes;  // (vector_size cannot depend on a template parameter)
+template <>
+struct Lanes<8> {
+  typedef double type __attribute__((vector_size(64)));
+};
+template <>
+struct Lanes<4> {
+  typedef double type __attribute__((vector_size(32)));
+};
+
+template <int W>
+[[gnu::always_inline]] inline double chains(std::int64_t rounds, double mul, double add) {
+  using V = typename Lanes<W>::type;
+  V a[kChains];
+  for (int k = 0; k < kChains; ++k) a[k] = V{} + (1.0 + 1e-3 * k);
+  const V m = V{} + mul, c = V{} + add;
   for (std::int64_t r = 0; r < rounds; ++r)
-    for (int k = 0; k < kChains; ++k) a[k] = _mm512_fmadd_pd(a[k], m, c);
-  __m512d s = a[0];
-  for (int k = 1; k < kChains; ++k) s = _mm512_add_pd(s, a[k]);
-  alignas(64) double out[8];
-  _mm512_store_pd(out, s);
-  return out[0] + out[1] + out[2] + out[3] + out[4] + out[5] + out[6] + out[7];
+    for (int k = 0; k < kChains; ++k) a[k] = a[k] * m + c;
+  double sum = 0;
+  for (int k = 0; k < kChains; ++k)
+    for (int l = 0; l < W; ++l) sum += a[k][l];
+  return sum;
 }
 
+__attribute__((target("avx512f"), noinline)) double chains_avx512(std::int64_t rounds, double mul, double add) {
+  return chains<8>(rounds, mul, add);
+}
 __attribute__((target("avx2,fma"), noinline)) double chains_avx2(std::int64_t rounds, double mul, double add) {
-  __m256d a[kChains];
-  for (int k = 0; k < kChains; ++k) a[k] = _mm256_set1_pd(1.0 + 1e-3 * k);
-  const __m256d m = _mm256_set1_pd(mul), c = _mm256_set1_pd(add);
-  for (std::int64_t r = 0; r < rounds; ++r)
-    for (int k = 0; k < kChains; ++k) a[k] = _mm256_fmadd_pd(a[k], m, c);
-  __m256d s = a[0];
-  for (int k = 1; k < kChains; ++k) s = _mm256_add_pd(s, a[k]);
-  alignas(32) double out[4];
-  _mm256_store_pd(out, s);
-  return out[0] + out[1] + out[2] + out[3];
+  return chains<4>(rounds, mul, add);
 }
 #endif
 
