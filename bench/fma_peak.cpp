@@ -12,7 +12,6 @@
 
 #include "core/vector_isa.hpp"
 
-
 namespace {
 using namespace sphdisk;
 
