@@ -15,8 +15,9 @@
 // (the tiles that write to it all have different colours), inside a tile in cell order. Half lists
 // made from gather lists (variable h) may give a pair to its second particle; their tiles write to
 // every adjacent tile (TileWrites::AllNeighbours) and run, uncoloured, as jobs that keep tile order
-// among the tiles that write to a common particle (tile_jobs.hpp). Far pairs (tiles not adjacent: a particle whose support is much wider than a tile)
-// follow all tiles, in tile order (or precede them: FarPairs::First). Nothing in the order
+// among the tiles that write to a common particle (tile_jobs.hpp). Far pairs (tiles not adjacent:
+// a particle whose support is much wider than a tile) follow all tiles, in tile order (or precede
+// them: FarPairs::First). Nothing in the order
 // depends on threads or on how particles are split over ranks (a rank's cells keep the lattice's
 // relative order).
 #include <algorithm>

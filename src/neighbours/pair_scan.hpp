@@ -13,9 +13,9 @@
 // within its own support radius and no transposition is needed; but an owner may write to a
 // partner before it, in any adjacent tile, so the tiles are scheduled for writes to all their
 // neighbours (TileWrites::AllNeighbours, pair_lists.hpp; tile_jobs.hpp). Pairs whose tiles are not
-// adjacent (a support wider than a tile) are evaluated before or after all tiles, in tile order. Each particle thus gets
-// its pair terms in an order fixed by positions, IDs, smoothing lengths and the lattice: the same
-// bits for any thread or rank count. With adaptive h these are also the stored lists' owners,
+// adjacent (a support wider than a tile) are evaluated before or after all tiles, in tile order.
+// Each particle thus gets its pair terms in an order fixed by positions, IDs, smoothing lengths and
+// the lattice: the same bits for any thread or rank count. With adaptive h these are also the stored lists' owners,
 // schedule and partner order, so the two give the same bits (test_pair_scan.cpp); with one smoothing
 // length for all particles the owner is always the first, only the half of the stencil after it is
 // searched, and the stored lists' forward-only schedule orders the terms differently (round-off).
