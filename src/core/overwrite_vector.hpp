@@ -13,20 +13,29 @@
 
 namespace sphdisk {
 
-template <class T>
+// kLeaveUnset: for types with default member initialisers that are still plain data (Mat, Vec and
+// structs of them: trivially copyable and destructible, so the allocation itself holds their
+// objects, C++20 implicit object creation), resize constructs nothing at all, not even those
+// initialisers. For per-particle sums that a parallel loop zeroes anyway: the serial zero-fill of a
+// fresh buffer (with its page faults) was 2.8% of a two-thread block run's main thread without
+// stored lists, which frees the gradient sums after every evaluation (perf, docs/performance.md
+// session 31).
+template <class T, bool kLeaveUnset = false>
 struct DefaultInitAllocator : std::allocator<T> {
+  static_assert(!kLeaveUnset || (std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>),
+                "kLeaveUnset leaves objects unconstructed: plain data only");
   using value_type = T;
   DefaultInitAllocator() noexcept = default;
   template <class U>
-  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  DefaultInitAllocator(const DefaultInitAllocator<U, kLeaveUnset>&) noexcept {}
   template <class U>
   struct rebind {
-    using other = DefaultInitAllocator<U>;
+    using other = DefaultInitAllocator<U, kLeaveUnset>;
   };
-  // Default-initialisation where std::allocator value-initialises (zeroes) ...
+  // Default-initialisation (or none) where std::allocator value-initialises (zeroes) ...
   template <class U>
-  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-    ::new (static_cast<void*>(p)) U;
+  void construct(U* p) noexcept(kLeaveUnset || std::is_nothrow_default_constructible_v<U>) {
+    if constexpr (!kLeaveUnset) ::new (static_cast<void*>(p)) U;
   }
   // ... and what std::allocator does for everything else.
   template <class U, class... Args>
@@ -35,47 +44,16 @@ struct DefaultInitAllocator : std::allocator<T> {
   }
 };
 
-template <class T, class U>
-bool operator==(const DefaultInitAllocator<T>&, const DefaultInitAllocator<U>&) noexcept {
+template <class T, class U, bool kLeaveUnset>
+bool operator==(const DefaultInitAllocator<T, kLeaveUnset>&, const DefaultInitAllocator<U, kLeaveUnset>&) noexcept {
   return true;
 }
 
 template <class T>
 using OverwriteVector = std::vector<T, DefaultInitAllocator<T>>;
 
-// For types with default member initialisers that are still plain data (Mat, Vec and structs of
-// them: trivially copyable and destructible, so the allocation itself holds their objects, C++20
-// implicit object creation): resize constructs nothing at all, not even those initialisers. For
-// per-particle sums that a parallel loop zeroes anyway: the serial zero-fill of a fresh buffer (with
-// its page faults) was 2.8% of a two-thread block run's main thread without stored lists, which
-// frees the gradient sums after every evaluation (perf, docs/performance.md session 31).
-template <class T>
-struct NoInitAllocator : std::allocator<T> {
-  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>,
-                "NoInitAllocator leaves objects unconstructed: plain data only");
-  using value_type = T;
-  NoInitAllocator() noexcept = default;
-  template <class U>
-  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
-  template <class U>
-  struct rebind {
-    using other = NoInitAllocator<U>;
-  };
-  template <class U>
-  void construct(U*) noexcept {}
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
-template <class T, class U>
-bool operator==(const NoInitAllocator<T>&, const NoInitAllocator<U>&) noexcept {
-  return true;
-}
-
 // Entries hold whatever the memory held until written (a new buffer's: anything).
 template <class T>
-using UnsetVector = std::vector<T, NoInitAllocator<T>>;
+using UnsetVector = std::vector<T, DefaultInitAllocator<T, true>>;
 
 }  // namespace sphdisk
