@@ -38,9 +38,10 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
   return 0;
 }
 
-// A run stopped by SIGTERM/SIGINT has written its checkpoint: exit 75 (EX_TEMPFAIL, "try again").
-int report_interrupted(const std::string& dir) {
-  std::fprintf(stderr, "sphdisk: interrupted by a signal; checkpoint written; continue with: sphdisk resume %s\n", dir.c_str());
+// A run stopped by SIGTERM/SIGINT (with its checkpoint written, or, after a second signal inside a
+// block cycle, from its last one): exit 75 (EX_TEMPFAIL, "try again").
+int report_interrupted(const sphdisk::RunSummary& summary) {
+  std::fprintf(stderr, "sphdisk: %s\n", sphdisk::interruption_note(summary).c_str());
   return 75;
 }
 
@@ -144,7 +145,7 @@ int main(int argc, char** argv) {
       sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet};
       const auto summary = sphdisk::run_simulation(cfg, opts);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
-      if (summary.interrupted) return report_interrupted(summary.output_dir);
+      if (summary.interrupted) return report_interrupted(summary);
       // The accuracy table of the last snapshot (the README's main job ends with it).
       char last[64];
       std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_tau.size());
@@ -157,7 +158,7 @@ int main(int argc, char** argv) {
       sphdisk::RunOptions opts{run_dir, false, trace_file, quiet};
       const auto summary = sphdisk::resume_simulation(run_dir, opts, overrides);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
-      if (summary.interrupted) return report_interrupted(summary.output_dir);
+      if (summary.interrupted) return report_interrupted(summary);
       return 0;
     }
     if (*sweep) {

@@ -52,9 +52,13 @@ const char* const kDiagnosticsHeader =
     "step,time,tau,dt,particles,mass,accreted_mass,kinetic_energy,internal_energy,angular_momentum,"
     "accreted_angular_momentum,wall_time";
 
-// Set by SIGTERM / SIGINT; the run checkpoints and stops after the current step.
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+// Counts SIGTERM / SIGINT: after the first the run checkpoints and stops when the current step
+// ends; a second one inside a long step (a block cycle) abandons that step (Runner::between_substeps).
+volatile std::sig_atomic_t g_stop_signals = 0;
+extern "C" void on_stop_signal(int) { g_stop_signals = g_stop_signals + 1; }
+
+// Thrown between the substeps of a step that a second stop signal abandons.
+struct StepAbandoned {};
 
 std::string snapshot_name(const std::string& dir, std::size_t k) {
   char buf[32];
@@ -225,6 +229,8 @@ class Runner {
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
+    integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
+    if (s_.step > 0) last_checkpoint_step_ = s_.step;  // resumed from it
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));
     meta_.viscosity = setup_.phys.nu;
     meta_.ring_radius = 1.0;
@@ -253,10 +259,20 @@ class Runner {
     diagnostics_row(0.0);
   }
 
-  // A resumed run: the checkpoint holds the rates (acc, du_dt) and the integrator state.
+  // A resumed run: the checkpoint holds the rates (acc, du_dt), the integrator state and, where
+  // the integrator needs it, the rest of the last evaluation (kRateState). A checkpoint without the
+  // latter (written by another scheme, or before sphdisk stored it) is continued with the rates
+  // evaluated anew: correct, but not bit for bit the run that wrote it.
   void restart() {
     rebalance();
     integrator_->set_state(s_.integrator);
+    if (integrator_->needs_rate_state() && !s_.rate_state) {
+      if (root())
+        std::fprintf(stderr, "sphdisk: note: the checkpoint holds no density and stress of its last evaluation "
+                             "(another scheme, or an older sphdisk); they are evaluated anew, so the run continues "
+                             "correctly but not bit for bit\n");
+      integrator_->start(p_);
+    }
     if (root()) truncate_diagnostics(dir_, s_.step);
     open_diagnostics();
   }
@@ -335,9 +351,11 @@ class Runner {
   void write_checkpoint_now() {
     ScopedPhase timer(timers_, "io");
     s_.integrator = integrator_->state();
+    s_.rate_state = integrator_->needs_rate_state();
     if (root()) csv_.flush();
     write_checkpoint(domain_.comm(), (fs::path(dir_) / kCheckpointName).string(), p_, s_);
     last_checkpoint_ = Clock::now();
+    last_checkpoint_step_ = s_.step;
   }
 
   void diagnostics_row(double dt) {
@@ -385,17 +403,45 @@ class Runner {
 
   double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
 
-  void progress(double dt, double t_begin, std::size_t updates, std::size_t n) {
+  // A progress line at most every output.progress_interval seconds: at the end of a step, or
+  // inside one (`within`: the fraction of the step's time done) at simulated time `time`.
+  void progress(long long step, double time, double dt, double within = -1) {
     const auto now = Clock::now();
     if (!root() || opts_.quiet || cfg_.progress_interval <= 0 ||
         std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
       return;
     last_progress_ = now;
-    const double frac = (s_.time - t_begin) / (t_out_.back() - t_begin);
-    std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s\n", s_.step,
-                 setup_.tau_of_time(s_.time), 100 * frac, dt, n, static_cast<double>(updates) / wall(),
-                 format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str());
-    (void)n;
+    const double frac = (time - advance_.t_begin) / (t_out_.back() - advance_.t_begin);
+    char inside[64] = "";
+    if (within >= 0) std::snprintf(inside, sizeof inside, "  (%.1f%% into the step's block cycle)", 100 * within);
+    std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
+                 setup_.tau_of_time(time), 100 * frac, dt, advance_.particles, static_cast<double>(advance_.updates) / wall(),
+                 format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
+  }
+
+  // Between the substeps of a long step (a block cycle; at 10M particles one can take hours):
+  // progress lines, and stop signals heard at once. The first is acknowledged here and honoured
+  // when the step ends, with a checkpoint; a second abandons the step, unsaved. Every rank comes
+  // here at the same substeps, so the signal count is agreed on collectively.
+  void between_substeps(double done, double length) {
+    ++substeps_;
+    if (substeps_ == cfg_.inject_interrupt_at_substep)
+      for (long long k = 0; k < cfg_.inject_interrupts; ++k) std::raise(SIGINT);
+    const double signals = domain_.comm().max(static_cast<double>(g_stop_signals));
+    if (signals >= 2) throw StepAbandoned{};
+    if (signals >= 1 && !stop_acknowledged_) {
+      stop_acknowledged_ = true;
+      if (root()) {
+        const std::string then = last_checkpoint_step_ >= 0
+                                     ? "the run then continues from its checkpoint of step " + std::to_string(last_checkpoint_step_)
+                                     : "no checkpoint yet: the run would start again";
+        std::fprintf(stderr,
+                     "sphdisk: stop requested %.0f%% into the block cycle of step %lld; the run stops with a checkpoint "
+                     "when the cycle ends; signal again to stop now (%s)\n",
+                     100 * done / length, s_.step + 1, then.c_str());
+      }
+    }
+    progress(s_.step + 1, s_.time + done, length, done / length);
   }
 
   const Config& cfg_;
@@ -413,16 +459,24 @@ class Runner {
   std::ofstream csv_;
   double trace_origin_us_ = 0;
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
+  long long last_checkpoint_step_ = -1;  // -1: none yet
+  long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
+  bool stop_acknowledged_ = false;
+  struct {
+    double t_begin = 0;         // simulated time at the start of advance()
+    std::size_t updates = 0;    // particles given new rates since then (all ranks)
+    std::size_t particles = 0;  // at the start of the current step (all ranks)
+  } advance_;
 };
 
 RunSummary Runner::advance() {
-  const double t_begin = s_.time;
   const long long steps_before = s_.step;
-  std::size_t updates = 0;  // particles given new rates (all ranks), for the throughput figure
+  advance_.t_begin = s_.time;
+  advance_.updates = 0;
   const double h = s_.smoothing_length;
   auto old_term = std::signal(SIGTERM, on_stop_signal);
   auto old_int = std::signal(SIGINT, on_stop_signal);
-  bool interrupted = false;
+  bool interrupted = false, abandoned = false;
   while (static_cast<std::size_t>(s_.next_output) < t_out_.size() &&
          (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
@@ -442,11 +496,17 @@ RunSummary Runner::advance() {
       p_.gather(order, [](std::size_t n, const auto& f) { par::for_each(n, f, "reorder", 4096); });
     }
     const std::size_t updates_before = rates_.particle_updates();
-    const std::size_t n_before = distributed() ? global_count() : p_.size();
+    advance_.particles = distributed() ? global_count() : p_.size();
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
-    const double dt = integrator_->step(p_, dt_cap);
-    updates += domain_.comm().sum(std::uint64_t{rates_.particle_updates() - updates_before});
+    double dt = 0;
+    try {
+      dt = integrator_->step(p_, dt_cap);
+    } catch (const StepAbandoned&) {
+      interrupted = abandoned = true;  // nothing of the step is kept; the last checkpoint stays
+      break;
+    }
+    advance_.updates += domain_.comm().sum(std::uint64_t{rates_.particle_updates() - updates_before});
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
     if (s_.step == cfg_.inject_nan_at_step) p_.vel[0][0] = std::numeric_limits<double>::quiet_NaN();
@@ -467,11 +527,11 @@ RunSummary Runner::advance() {
     if (cfg_.checkpoint_every_seconds > 0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds)
       checkpoint = true;
-    if (domain_.any(g_stop_signal != 0)) checkpoint = interrupted = true;
+    if (domain_.any(g_stop_signals != 0)) checkpoint = interrupted = true;
     checkpoint = domain_.any(checkpoint);  // wall-clock triggers differ between ranks
     if (checkpoint) write_checkpoint_now();
     if (interrupted) break;
-    progress(dt, t_begin, updates, n_before);
+    progress(s_.step, s_.time, dt);
   }
   std::signal(SIGTERM, old_term);
   std::signal(SIGINT, old_int);
@@ -485,9 +545,11 @@ RunSummary Runner::advance() {
   sum.evaluations = rates_.evaluations();
   sum.particles_final = global_count();
   sum.wall_seconds = wall();
-  sum.particle_updates_per_second = static_cast<double>(updates) / sum.wall_seconds;
+  sum.particle_updates_per_second = static_cast<double>(advance_.updates) / sum.wall_seconds;
   sum.output_dir = dir_;
   sum.interrupted = interrupted;
+  sum.abandoned = abandoned;
+  sum.checkpoint_step = last_checkpoint_step_;
   const std::string per_rank = ranks_json();
   std::vector<std::string> traces;  // rank 0: every rank's trace events
   if (!opts_.trace_file.empty())
@@ -517,7 +579,7 @@ void apply_run_options(const Config& cfg, const RunOptions& opts) {
                    : cfg.vector_isa == "avx2"   ? VectorIsa::avx2
                                                 : VectorIsa::avx512);  // auto: no cap
   if (!opts.trace_file.empty()) par::trace_enable(true);
-  g_stop_signal = 0;
+  g_stop_signals = 0;
 }
 
 }  // namespace
@@ -550,6 +612,15 @@ void check_list_reuse(const Communicator& comm, const Config& cfg) {
   if (comm.size() > 1 && cfg.list_skin > 0)
     throw UserError("sph.list_skin > 0 needs one process (lists are not reused across ranks); set sph.list_skin = 0 "
                     "or run without mpirun");
+}
+
+std::string interruption_note(const RunSummary& s) {
+  if (!s.abandoned) return "interrupted by a signal; checkpoint written; continue with: sphdisk resume " + s.output_dir;
+  if (s.checkpoint_step < 0)
+    return "stopped by a second signal inside a block cycle, before the run wrote any checkpoint; start the run "
+           "again with sphdisk run";
+  return "stopped by a second signal inside a block cycle, which was not saved; continue from the checkpoint of step " +
+         std::to_string(s.checkpoint_step) + " with: sphdisk resume " + s.output_dir;
 }
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {

@@ -23,8 +23,13 @@ struct RunSummary {
   double wall_seconds = 0;
   double particle_updates_per_second = 0;  // particles x rate evaluations / wall time
   std::string output_dir;
-  bool interrupted = false;  // stopped by SIGTERM/SIGINT after writing a checkpoint
+  bool interrupted = false;  // stopped by SIGTERM/SIGINT after writing a checkpoint, or (abandoned) without
+  bool abandoned = false;    // stopped by a second signal inside a step, which was not saved
+  long long checkpoint_step = -1;  // the step of the run's last checkpoint (-1: none yet)
 };
+
+// What an interrupted run tells its user: where it stopped and how to continue.
+std::string interruption_note(const RunSummary& s);
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts);
 

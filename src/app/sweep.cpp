@@ -124,7 +124,7 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite) {
         opts.one_process = true;
         const RunSummary s = run_simulation(configs[k], opts);
         if (s.interrupted)  // SIGTERM/SIGINT: the study stops; this run can be resumed
-          return TaskOutcome{false, "interrupted by a signal; continue with sphdisk resume " + opts.output_dir, 0.0, true};
+          return TaskOutcome{false, interruption_note(s), 0.0, true};
         return TaskOutcome{true, std::to_string(s.steps) + " steps", 0.0};
       },
       [&](const TaskReport& r) {

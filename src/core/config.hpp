@@ -57,6 +57,8 @@ struct Config {
   long long max_steps = 0;         // 0: no limit
   double rebalance_threshold = 1.05;  // MPI: re-cut the domains when largest rank / mean count passes this
   long long inject_nan_at_step = 0;  // testing aid for the fault path; 0: off
+  long long inject_interrupt_at_substep = 0;  // testing aid: SIGINT inside a block cycle; 0: off
+  long long inject_interrupts = 1;   // how many, at that substep
 
   std::string resolved_toml;       // every key = value, for outputs
   // (key, value as TOML text) for every key, in declaration order (for HDF5 /Parameters)

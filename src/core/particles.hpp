@@ -21,6 +21,9 @@ enum FieldFlag : unsigned {
                           // SPHDISK_SINGLE_PRECISION_FIELDS (arithmetic and sums stay double). Not
                           // the volume m/rho: the force loop's m_j / rho_j must equal it to double
                           // rounding, or kinetic + internal energy would not balance exactly.
+  kRateState = 1u << 4,   // read from the particles an evaluation does not update: with block
+                          // timesteps a cycle's first partial evaluation reads those of the last
+                          // full one, so their checkpoints hold these too (io/checkpoint.hpp)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -42,10 +45,10 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(vel,   Vector, "Velocities",         kSnapshot | kCheckpoint,               1,  0, -1)     \
   X(u,     Scalar, "InternalEnergy",     kSnapshot | kCheckpoint | kEnergyOnly, 2,  0, -2)     \
   X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint,               1,  0,  0)     \
-  X(rho,   Scalar, "Density",            kSnapshot | kReduced,                 -2,  1,  0)     \
-  X(volume, Scalar, "Volume",            0,                                     2,  0,  0)     \
-  X(stress, Tensor, "KinematicStress",   kReduced,                              2,  0, -1)     \
-  X(correction, Tensor, "MomentCorrection", kReduced,                            0,  0,  0)     \
+  X(rho,   Scalar, "Density",            kSnapshot | kReduced | kRateState,    -2,  1,  0)     \
+  X(volume, Scalar, "Volume",            kRateState,                            2,  0,  0)     \
+  X(stress, Tensor, "KinematicStress",   kReduced | kRateState,                 2,  0, -1)     \
+  X(correction, Tensor, "MomentCorrection", kReduced | kRateState,               0,  0,  0)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \

@@ -67,6 +67,7 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   void start(Particles<D>& p) override { rates_.evaluate(p); }
+  bool needs_rate_state() const override { return true; }
 
   double step(Particles<D>& p, double dt_cap) override {
     const PhysicsParams& phys = rates_.physics();
@@ -120,18 +121,21 @@ class BlockLeapfrog final : public Integrator<D> {
         active = active_prefix(next);
       }
       rates_.evaluate(p, active);
-      ScopedPhase timer(rates_.timers(), "integration");
-      par::for_each(active, [&](std::size_t i) {
-        const double half = 0.5 * static_cast<double>(length_[i]) * tick;
-        p.vel[i] = v_kick_[i] + p.acc[i] * half;  // closing kick
-        if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
-        if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
-        start_[i] = static_cast<Ticks>(next);
-        length_[i] = static_cast<Ticks>(step_ticks(particle_timestep(p, i, phys, f), tick, next));
-        open_step(p, i, tick, energy);
-      }, "integration");
-      if (next != kTicks) group_by_length(p, active);
+      {
+        ScopedPhase timer(rates_.timers(), "integration");
+        par::for_each(active, [&](std::size_t i) {
+          const double half = 0.5 * static_cast<double>(length_[i]) * tick;
+          p.vel[i] = v_kick_[i] + p.acc[i] * half;  // closing kick
+          if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
+          if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
+          start_[i] = static_cast<Ticks>(next);
+          length_[i] = static_cast<Ticks>(step_ticks(particle_timestep(p, i, phys, f), tick, next));
+          open_step(p, i, tick, energy);
+        }, "integration");
+        if (next != kTicks) group_by_length(p, active);
+      }
       now = next;
+      if (now < kTicks) this->substep_done(static_cast<double>(now) * tick, cycle);
     }
     return cycle;
   }

@@ -7,6 +7,7 @@
 //  - block: respa with individual power-of-two hydrodynamic steps (block_leapfrog.cpp).
 //  - embedded explicit Runge-Kutta with error control (the paper's "error tolerance of the time
 //    integrator", P98 sec. 5.3): Bogacki-Shampine 3(2) or Dormand-Prince 5(4).
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -38,11 +39,31 @@ class Integrator {
   virtual std::size_t rejected_steps() const { return 0; }
   // Memory the integrator holds between steps beyond the particles (capacities, bytes; ranks.json).
   virtual std::size_t bytes() const { return 0; }
+  // Whether its next step reads rates of the last step from particles it does not update (block
+  // timesteps' partial evaluations read the last full one's density and stress): a checkpoint must
+  // then hold them (kRateState, io/checkpoint.hpp), as they cannot be recomputed to the same bits.
+  virtual bool needs_rate_state() const { return false; }
   // State the integrator carries between steps beyond the particles (checkpointed).
   virtual std::vector<double> state() const { return {}; }
   virtual void set_state(const std::vector<double>& s) { (void)s; }
   // Between steps all per-particle state lives in Particles (acc and du_dt are checkpointed), so
   // particles may be removed or reordered freely between calls.
+
+  // Called between the substeps of a step that has them (block timesteps: after each tick of a
+  // cycle but the last, on every rank at the same tick) with the time done and the step's length:
+  // a cycle of a large run can take hours, and this is where the caller shows progress and hears
+  // a request to stop. The hook may throw to abandon the step; the particles are then between
+  // substeps, a state that no output or checkpoint may record.
+  using SubstepHook = std::function<void(double done, double length)>;
+  void on_substep(SubstepHook hook) { substep_hook_ = std::move(hook); }
+
+ protected:
+  void substep_done(double done, double length) const {
+    if (substep_hook_) substep_hook_(done, length);
+  }
+
+ private:
+  SubstepHook substep_hook_;
 };
 
 template <int D>

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstring>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include "core/build_info.hpp"
 #include "core/error.hpp"
@@ -20,7 +22,9 @@ constexpr int kDim = 2;
 // Format 2: the row-sum checksum below, which ranks can compute on their own rows.
 // Format 3 (2026-11-30): adds the smoothing-length history (h_prev, h_prev2), which earlier files
 // lack: their particles start without one, as new particles do.
-constexpr long long kFormatVersion = 3;
+// Format 4 (2026-12-03): attribute RateState; where it is 1 the kRateState fields are stored too (in
+// double precision, whatever their storage), as a block-timestep run needs them to continue.
+constexpr long long kFormatVersion = 4;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
@@ -36,11 +40,22 @@ struct Checksum {
   void add(std::uint64_t v) { add(&v, sizeof v); }
 };
 
+// The number type of a field's entries (double, or float for kReduced fields in a build with
+// single-precision fields) and how many of them an entry holds.
 template <class T>
-std::size_t components() {
-  if constexpr (std::is_same_v<T, Vec<kDim>>) return kDim;
-  else if constexpr (std::is_same_v<T, Mat<kDim>>) return kDim * kDim;
-  else return 1;
+struct EntryOf {
+  using Number = T;
+};
+template <class T>
+  requires std::is_class_v<T>
+struct EntryOf<T> {
+  using Number = std::remove_cvref_t<decltype(std::declval<T>().c[0])>;
+};
+template <class T>
+using NumberOf = typename EntryOf<T>::Number;
+template <class T>
+constexpr std::size_t components() {
+  return sizeof(T) / sizeof(NumberOf<T>);
 }
 
 std::uint64_t state_hash(const RunState& s) {
@@ -52,6 +67,7 @@ std::uint64_t state_hash(const RunState& s) {
   c.add(s.accreted_angular_momentum);
   c.add(s.smoothing_length);
   for (double v : s.integrator) c.add(v);
+  if (s.rate_state) c.add(1LL);  // (absent from earlier formats' hashes)
   c.add(s.config_toml.data(), s.config_toml.size());
   return c.h;
 }
@@ -72,12 +88,13 @@ std::uint64_t row_sum(std::size_t field, std::size_t first_row, const std::vecto
   return sum;
 }
 
-// Calls f(info, field, index) for each checkpoint field, index counting them in table order.
+// Calls f(info, field, index) for each checkpoint field (with the kRateState ones if rate_state),
+// index counting them in table order.
 template <class P, class F>
-void for_each_checkpoint_field(P& p, F&& f) {
+void for_each_checkpoint_field(P& p, bool rate_state, F&& f) {
   std::size_t index = 0;
   p.for_each_field([&](const FieldInfo& info, auto& field) {
-    if (info.flags & kCheckpoint) f(info, field, index++);
+    if ((info.flags & kCheckpoint) || (rate_state && (info.flags & kRateState))) f(info, field, index++);
   });
 }
 
@@ -86,7 +103,9 @@ void for_each_checkpoint_field(P& p, F&& f) {
 void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
                             const Particles<2>& p, const RunState& s) {
   std::uint64_t sum = 0;
-  for_each_checkpoint_field(p, [&](const FieldInfo&, const auto& field, std::size_t f) { sum += row_sum(f, first_row, field); });
+  for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo&, const auto& field, std::size_t f) {
+    sum += row_sum(f, first_row, field);
+  });
   const std::uint64_t total = comm.sum(sum) + state_hash(s);  // unsigned: wraps mod 2^64 on every rank alike
   write_hdf5_atomically(path, comm, [&](hid_t file, hid_t transfer) {
     h5::Handle g = h5::create_group(file, "Checkpoint");
@@ -105,15 +124,21 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::write_attr(g, "Config", s.config_toml);
     h5::write_attr(g, "NumParticles", static_cast<long long>(n));
     h5::write_attr(g, "Checksum", std::to_string(total));
+    h5::write_attr(g, "RateState", s.rate_state ? 1LL : 0LL);
     h5::Handle parts = h5::create_group(file, "Particles");
-    for_each_checkpoint_field(p, [&](const FieldInfo& info, const auto& field, std::size_t) {
+    for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo& info, const auto& field, std::size_t) {
       using T = typename std::decay_t<decltype(field)>::value_type;
       const bool ids = std::is_same_v<T, std::uint64_t>;
       const h5::Handle ds = h5::create_dataset(parts, std::string(info.name), ids, n, components<T>());
-      if constexpr (std::is_same_v<T, std::uint64_t>)
+      if constexpr (std::is_same_v<T, std::uint64_t>) {
         h5::write_rows(ds, field.data(), first_row, field.size(), transfer);
-      else
+      } else if constexpr (std::is_same_v<NumberOf<T>, double>) {
         h5::write_rows(ds, reinterpret_cast<const double*>(field.data()), first_row, field.size(), components<T>(), transfer);
+      } else {  // single-precision storage, widened exactly
+        const auto* from = reinterpret_cast<const NumberOf<T>*>(field.data());
+        const std::vector<double> wide(from, from + field.size() * components<T>());
+        h5::write_rows(ds, wide.data(), first_row, field.size(), components<T>(), transfer);
+      }
     });
   });
 }
@@ -137,7 +162,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
   ReadShare out;
   const double version = num("FormatVersion");  // compared as stored: a corrupt value may be NaN
-  if ((version != 1 && version != 2 && version != static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
+  if (!(version == 1 || version == 2 || version == 3 || version == static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   out.version = static_cast<long long>(version);
   // A run continues bit for bit only in a build of the same field precision (core/particles.hpp);
@@ -165,6 +190,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
     throw UserError("'" + path + "': checkpoint integrator state is inconsistent (corrupt file?)");
   s.integrator.resize(static_cast<std::size_t>(state_size));
   s.config_toml = h5::read_attr_string(g, "Config", path);
+  s.rate_state = out.version >= 4 && num("RateState") != 0;
   const double n_attr = num("NumParticles");
   out.checksum = h5::read_attr_string(g, "Checksum", path);
 
@@ -178,7 +204,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<2>& p = out.particles;
   p.resize(rows_read);
-  for_each_checkpoint_field(p, [&](const FieldInfo& info, auto& field, std::size_t f) {
+  for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     const std::string name(info.name);
     if (out.version < 3 && added_in_format3(name) && !h5::exists(parts, name)) {
@@ -192,7 +218,12 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
       const std::vector<double> raw = h5::read_dataset_doubles(parts, name, path, rows, cols, read);
       if (cols != components<T>() || raw.size() != rows_read * cols)
         throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong shape");
-      if (!raw.empty()) std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
+      if constexpr (std::is_same_v<NumberOf<T>, double>) {
+        if (!raw.empty()) std::memcpy(static_cast<void*>(field.data()), raw.data(), raw.size() * sizeof(double));
+      } else {  // stored widened from single precision: narrowed back exactly
+        auto* to = reinterpret_cast<NumberOf<T>*>(field.data());
+        for (std::size_t k = 0; k < raw.size(); ++k) to[k] = static_cast<NumberOf<T>>(raw[k]);
+      }
     }
     if (rows != n || field.size() != rows_read)
       throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");

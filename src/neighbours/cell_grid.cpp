@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -110,6 +111,11 @@ void fill_cell_grid(const Lattice<D>& lattice, const Vec<D>& lo, const Vec<D>& h
 
 template <int D>
 Lattice<D> make_lattice(const Vec<D>& lo, const Vec<D>& hi, std::size_t n, double min_cell_size) {
+  // A non-finite extent would grow the cell size below for ever: say what is wrong instead.
+  for (int k = 0; k < D; ++k)
+    if (!std::isfinite(hi[k] - lo[k]))
+      throw NumericalError("a particle position is not finite, so no cell grid can be built; reduce the timestep "
+                           "factors or check the set-up");
   Lattice<D> L;
   L.lo = lo;
   const double max_cells = std::max<double>(4.0 * static_cast<double>(n), 1024.0);

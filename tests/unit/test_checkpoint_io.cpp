@@ -115,6 +115,51 @@ TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
   EXPECT_EQ(r.config_toml, s.config_toml);
 }
 
+// Block timesteps need the last evaluation's density, volume, stress and moment correction to
+// continue (kRateState): with RunState::rate_state they round-trip bit for bit (single-precision
+// storage too, widened in the file), they enter the checksum, and without it they are not written.
+TEST(Checkpoint, RateStateRoundTripsBitForBitWhenAskedFor) {
+  Particles<2> p = sample_particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = 1.0 + 1e-3 * static_cast<double>(i);
+    p.rho[i] = static_cast<ReducedReal>(x / 3.0);
+    p.volume[i] = p.mass[i] / (x / 3.0);
+    for (std::size_t c = 0; c < 4; ++c) {
+      p.stress[i].c[c] = static_cast<ReducedReal>(x / static_cast<double>(7 + c));
+      p.correction[i].c[c] = static_cast<ReducedReal>(-x / static_cast<double>(11 + c));
+    }
+  }
+  RunState s = sample_state();
+  s.rate_state = true;
+  const fs::path path = temp_file("rate_state.h5");
+  write_checkpoint(path.string(), p, s);
+  RunState r;
+  const Particles<2> q = read_checkpoint(path.string(), r);
+  EXPECT_TRUE(r.rate_state);
+  expect_same_bits(p.rho, q.rho);
+  expect_same_bits(p.volume, q.volume);
+  expect_same_bits(p.stress, q.stress);
+  expect_same_bits(p.correction, q.correction);
+  expect_same_bits(p.pos, q.pos);
+  {  // a changed stress entry fails the checksum
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    h5::Handle ds(H5Dopen2(f, "Particles/stress", H5P_DEFAULT), H5Dclose);
+    std::vector<double> all(p.size() * 4);
+    ASSERT_GE(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
+    all[4 * 17 + 1] *= 2.0;
+    ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
+  }
+  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+
+  s.rate_state = false;
+  write_checkpoint(path.string(), p, s);
+  const Particles<2> without = read_checkpoint(path.string(), r);
+  EXPECT_FALSE(r.rate_state);
+  EXPECT_EQ(without.rho[5], ReducedReal{0});
+  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  EXPECT_FALSE(h5::exists(f, "Particles/stress"));
+}
+
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   const Particles<2> p = sample_particles();
   const fs::path path = temp_file("swapped.h5");

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
+#include "core/error.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
 #include "test_helpers.hpp"
@@ -118,5 +121,16 @@ TEST(Lattice, ZeroMinimumCellSizeIsCappedByTheCellCount) {
     ASSERT_GT(L.cell_size, 0.0);
     EXPECT_LE(static_cast<double>(L.dims[0]) * L.dims[1], 4000.0);
     EXPECT_GE(static_cast<double>(L.dims[0]) * L.dims[1], 4000.0 / 1.25 / 1.25 / 2);  // not needlessly coarse
+  }
+}
+
+// Particles at a NaN or infinite position (a blown-up step) get an error, not a lattice that is
+// grown for ever: a resumed block-timestep run whose density and stress had not been kept hung here.
+TEST(Lattice, NonFiniteExtentIsAnErrorNotAHang) {
+  const Vec<2> lo{{-1.0, -2.0}};
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    const Vec<2> hi{{3.0, bad}};
+    EXPECT_THROW(make_lattice(lo, hi, 1000, 0.1), NumericalError);
+    EXPECT_THROW(make_lattice(lo, hi, 1000, 0.0), NumericalError);
   }
 }

@@ -3,7 +3,8 @@
 # moment-correction tensors stored as float, all sums in double): its unit tests pass, its
 # results do not depend on the thread count, its stored densities are in fact single precision,
 # a short ring run stays within single-precision rounding of the default (double) build's, and it
-# passes kill_resume.sh and, with MPIEXEC, rank_identity.sh (same bits for any rank count).
+# passes kill_resume.sh, block_stop_resume.sh and, with MPIEXEC, rank_identity.sh (same bits for any
+# rank count).
 # Usage: single_precision_fields.sh PATH/TO/DOUBLE/sphdisk [MPIEXEC]   (builds build/single)
 set -euo pipefail
 double_exe=$(realpath "$1")
@@ -59,6 +60,9 @@ PY
 # Killed and resumed runs continue bit for bit in this build too.
 if out=$(tests/validation/kill_resume.sh "$single_exe" 2>&1); then echo "single build: $(echo "$out" | tail -1)"
 else echo "$out"; echo "single build: kill and resume FAILED"; fail=1; fi
+# So do block-timestep runs, whose checkpoints hold the float density and tensors widened to double.
+if out=$(tests/validation/block_stop_resume.sh "$single_exe" $mpiexec 2>&1); then echo "single build: $(echo "$out" | tail -1)"
+else echo "$out"; echo "single build: block cycles stopped and resumed FAILED"; fail=1; fi
 if [ -n "$mpiexec" ]; then
   if out=$(tests/validation/rank_identity.sh "$single_exe" "$mpiexec" 2>&1); then echo "single build: $(echo "$out" | tail -1)"
   else echo "$out"; echo "single build: rank identity FAILED"; fail=1; fi
