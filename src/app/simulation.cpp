@@ -435,10 +435,12 @@ class Runner {
         const std::string then = last_checkpoint_step_ >= 0
                                      ? "the run then continues from its checkpoint of step " + std::to_string(last_checkpoint_step_)
                                      : "no checkpoint yet: the run would start again";
+        // The rest of the cycle at its pace so far (its late ticks may cost more or less per tick).
+        const double spent = std::chrono::duration<double>(Clock::now() - step_start_).count();
         std::fprintf(stderr,
                      "sphdisk: stop requested %.0f%% into the block cycle of step %lld; the run stops with a checkpoint "
-                     "when the cycle ends; signal again to stop now (%s)\n",
-                     100 * done / length, s_.step + 1, then.c_str());
+                     "when the cycle ends (about %s more at its pace so far); signal again to stop now (%s)\n",
+                     100 * done / length, s_.step + 1, format_duration(spent * (length - done) / done).c_str(), then.c_str());
       }
     }
     progress(s_.step + 1, s_.time + done, length, done / length);
@@ -460,6 +462,7 @@ class Runner {
   double trace_origin_us_ = 0;
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
   long long last_checkpoint_step_ = -1;  // -1: none yet
+  Clock::time_point step_start_ = Clock::now();  // of the step in progress
   long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
   bool stop_acknowledged_ = false;
   struct {
@@ -500,6 +503,7 @@ RunSummary Runner::advance() {
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
     double dt = 0;
+    step_start_ = Clock::now();
     try {
       dt = integrator_->step(p_, dt_cap);
     } catch (const StepAbandoned&) {
