@@ -94,7 +94,7 @@ template <class P, class F>
 void for_each_checkpoint_field(P& p, bool rate_state, F&& f) {
   std::size_t index = 0;
   p.for_each_field([&](const FieldInfo& info, auto& field) {
-    if ((info.flags & kCheckpoint) || (rate_state && (info.flags & kRateState))) f(info, field, index++);
+    if (info.flags & checkpoint_field_flags(rate_state)) f(info, field, index++);
   });
 }
 

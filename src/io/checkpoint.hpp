@@ -27,6 +27,10 @@ struct RunState {
   std::string config_toml;          // resolved configuration of the run
 };
 
+// The field flags whose fields a checkpoint holds: kCheckpoint, and kRateState where the run needs
+// those (RunState::rate_state).
+inline unsigned checkpoint_field_flags(bool rate_state) { return rate_state ? kCheckpoint | kRateState : kCheckpoint; }
+
 void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s);
 
 // One checkpoint written by all ranks of comm together (collective): this rank's particles are rows
