@@ -256,3 +256,40 @@ TEST(Integrators, ReportTheMemoryOfTheirPerParticleState) {
     EXPECT_LT(integ->bytes(), 4 * per_particle * p.size()) << static_cast<int>(scheme);
   }
 }
+
+// Block cycles report between their ticks (Integrator::on_substep): times inside the cycle,
+// increasing, never its end; the results are those without the hook; and a hook that throws
+// abandons the step by its exception (how a second stop signal ends a long cycle).
+TEST(Integrators, BlockCyclesCallTheSubstepHookBetweenTicks) {
+  const RingSetup s = small_ring(1500, 4.778e-5);
+  PhysicsParams phys;
+  phys.nu = 4.778e-5;
+  IntegratorParams ip;
+  ip.scheme = Scheme::Block;
+  ip.factors.orbital = 0.1;  // several bins
+  const auto run_cycle = [&](const Integrator<2>::SubstepHook& hook, Particles<2>& p) {
+    PhaseTimers timers;
+    RateEvaluator<2> rates(KernelType::Cubic, ring_smoothing_length(s, 60), phys, timers);
+    auto integ = make_integrator<2>(ip, rates);
+    if (hook) integ->on_substep(hook);
+    integ->start(p);
+    return integ->step(p, 1.0);
+  };
+  Particles<2> plain = make_ring(s), hooked = make_ring(s);
+  run_cycle({}, plain);
+  std::vector<double> done;
+  double cycle = 0;
+  const double length = run_cycle([&](double d, double l) { done.push_back(d), cycle = l; }, hooked);
+  ASSERT_GE(done.size(), 2u);  // several bins: several ticks
+  EXPECT_EQ(cycle, length);
+  for (std::size_t k = 0; k < done.size(); ++k) {
+    EXPECT_GT(done[k], k > 0 ? done[k - 1] : 0.0);
+    EXPECT_LT(done[k], length);
+  }
+  EXPECT_EQ(plain.pos, hooked.pos);
+  EXPECT_EQ(plain.vel, hooked.vel);
+
+  struct Abandon {};
+  Particles<2> abandoned = make_ring(s);
+  EXPECT_THROW(run_cycle([](double, double) { throw Abandon{}; }, abandoned), Abandon);
+}
