@@ -415,7 +415,8 @@ class Runner {
     char inside[64] = "";
     if (within >= 0) std::snprintf(inside, sizeof inside, "  (%.1f%% into the step's block cycle)", 100 * within);
     std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
-                 setup_.tau_of_time(time), 100 * frac, dt, advance_.particles, static_cast<double>(advance_.updates) / wall(),
+                 setup_.tau_of_time(time), 100 * frac, dt, advance_.particles,
+                 static_cast<double>(advance_.updates) / wall(),
                  format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
   }
 
@@ -432,15 +433,17 @@ class Runner {
     if (signals >= 1 && !stop_acknowledged_) {
       stop_acknowledged_ = true;
       if (root()) {
-        const std::string then = last_checkpoint_step_ >= 0
-                                     ? "the run then continues from its checkpoint of step " + std::to_string(last_checkpoint_step_)
-                                     : "no checkpoint yet: the run would start again";
+        const std::string then =
+            last_checkpoint_step_ >= 0
+                ? "the run then continues from its checkpoint of step " + std::to_string(last_checkpoint_step_)
+                : "no checkpoint yet: the run would start again";
         // The rest of the cycle at its pace so far (its late ticks may cost more or less per tick).
         const double spent = std::chrono::duration<double>(Clock::now() - step_start_).count();
         std::fprintf(stderr,
                      "sphdisk: stop requested %.0f%% into the block cycle of step %lld; the run stops with a checkpoint "
                      "when the cycle ends (about %s more at its pace so far); signal again to stop now (%s)\n",
-                     100 * done / length, s_.step + 1, format_duration(spent * (length - done) / done).c_str(), then.c_str());
+                     100 * done / length, s_.step + 1, format_duration(spent * (length - done) / done).c_str(),
+                     then.c_str());
       }
     }
     progress(s_.step + 1, s_.time + done, length, done / length);

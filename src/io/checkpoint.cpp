@@ -162,7 +162,8 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
   ReadShare out;
   const double version = num("FormatVersion");  // compared as stored: a corrupt value may be NaN
-  if (!(version == 1 || version == 2 || version == 3 || version == static_cast<double>(kFormatVersion)) || num("Dimension") != kDim)
+  const bool known = version >= 1 && version <= static_cast<double>(kFormatVersion) && version == std::floor(version);
+  if (!known || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   out.version = static_cast<long long>(version);
   // A run continues bit for bit only in a build of the same field precision (core/particles.hpp);
