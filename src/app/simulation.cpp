@@ -53,12 +53,16 @@ const char* const kDiagnosticsHeader =
     "accreted_angular_momentum,wall_time";
 
 // Counts SIGTERM / SIGINT: after the first the run checkpoints and stops when the current step
-// ends; a second one inside a long step (a block cycle) abandons that step (Runner::between_substeps).
+// ends, or inside a long step (a block cycle) at its next substep; a second one inside such a step
+// before then abandons it unsaved (Runner::between_substeps).
 volatile std::sig_atomic_t g_stop_signals = 0;
 extern "C" void on_stop_signal(int) { g_stop_signals = g_stop_signals + 1; }
 
-// Thrown between the substeps of a step that a second stop signal abandons.
-struct StepAbandoned {};
+// Thrown between the substeps of a step: stopped after a checkpoint inside it (saved), or
+// abandoned by a second stop signal (not saved).
+struct StepLeft {
+  bool saved;
+};
 
 std::string snapshot_name(const std::string& dir, std::size_t k) {
   char buf[32];
@@ -185,9 +189,9 @@ Setup make_setup(const Config& cfg) {
 // 25) at 60 neighbours are 850 bytes per particle with adaptive h and leapfrog steps and 1,254 with
 // block steps (1M ring), against 1,220 estimated here.
 void check_memory(std::size_t particles, double neighbours, bool adaptive) {
-  // Fields ~200 B, lists + pair factors 12 B per neighbour, adaptive smoothing's candidate lists
+  // Fields ~224 B, lists + pair factors 12 B per neighbour, adaptive smoothing's candidate lists
   // 4 B per candidate (1.1^D more than neighbours).
-  const double bytes_estimate = static_cast<double>(particles) * (200.0 + (adaptive ? 17.0 : 12.0) * neighbours);
+  const double bytes_estimate = static_cast<double>(particles) * (224.0 + (adaptive ? 17.0 : 12.0) * neighbours);
   const double bytes_available = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
   if (bytes_estimate > 0.9 * bytes_available) {
     char msg[256];
@@ -230,7 +234,7 @@ class Runner {
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
-    if (s_.step > 0) last_checkpoint_step_ = s_.step;  // resumed from it
+    if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));
     meta_.viscosity = setup_.phys.nu;
     meta_.ring_radius = 1.0;
@@ -263,9 +267,23 @@ class Runner {
   // the integrator needs it, the rest of the last evaluation (kRateState). A checkpoint without the
   // latter (written by another scheme, or before sphdisk stored it) is continued with the rates
   // evaluated anew: correct, but not bit for bit the run that wrote it.
+  // A checkpoint written inside a block cycle also holds the particles' steps in it (kStepState) and
+  // the cycle's state: the first step continues that cycle.
   void restart() {
     rebalance();
-    integrator_->set_state(s_.integrator);
+    if (s_.step_state) {
+      integrator_->resume_inside_step(s_.integrator);
+      // The cycle ends where it ends (it was chosen to end at or before the next output then).
+      const auto next = static_cast<std::size_t>(s_.next_output);
+      const double cycle_end = s_.time + s_.integrator[0];
+      if (next < t_out_.size() && t_out_[next] - s_.time < s_.integrator[0])
+        throw UserError("the checkpoint was written inside a block cycle that ends at tau " +
+                        std::to_string(setup_.tau_of_time(cycle_end)) + ", after the next output time tau " +
+                        std::to_string(setup_.tau_of_time(t_out_[next])) +
+                        "; resume with output.tau as it was, or with no output before the cycle's end");
+    } else {
+      integrator_->set_state(s_.integrator);
+    }
     if (integrator_->needs_rate_state() && !s_.rate_state) {
       if (root())
         std::fprintf(stderr, "sphdisk: note: the checkpoint holds no density and stress of its last evaluation "
@@ -348,9 +366,12 @@ class Runner {
                          ", last good checkpoint kept; reduce the timestep factors or check the set-up");
   }
 
+  // Between steps, or inside one between its substeps (a block cycle: the particles' steps and the
+  // cycle's state go in too; time and step stay those before the cycle).
   void write_checkpoint_now() {
     ScopedPhase timer(timers_, "io");
-    s_.integrator = integrator_->state();
+    s_.step_state = integrator_->inside_step();
+    s_.integrator = s_.step_state ? integrator_->step_state() : integrator_->state();
     s_.rate_state = integrator_->needs_rate_state();
     if (root()) csv_.flush();
     write_checkpoint(domain_.comm(), (fs::path(dir_) / kCheckpointName).string(), p_, s_);
@@ -421,30 +442,26 @@ class Runner {
   }
 
   // Between the substeps of a long step (a block cycle; at 10M particles one can take hours):
-  // progress lines, and stop signals heard at once. The first is acknowledged here and honoured
-  // when the step ends, with a checkpoint; a second abandons the step, unsaved. Every rank comes
-  // here at the same substeps, so the signal count is agreed on collectively.
+  // progress lines, checkpoints when checkpoint.every_seconds have passed, and stop signals heard at
+  // once: the first is honoured here with a checkpoint inside the step (a batch system's grace time
+  // between its SIGTERM and SIGKILL is far shorter than a cycle); a second before this substep
+  // abandons the step unsaved. Every rank comes here at the same substeps, so the signal count and
+  // the checkpoint are agreed on collectively.
   void between_substeps(double done, double length) {
     ++substeps_;
     if (substeps_ == cfg_.inject_interrupt_at_substep)
       for (long long k = 0; k < cfg_.inject_interrupts; ++k) std::raise(SIGINT);
     const double signals = domain_.comm().max(static_cast<double>(g_stop_signals));
-    if (signals >= 2) throw StepAbandoned{};
-    if (signals >= 1 && !stop_acknowledged_) {
-      stop_acknowledged_ = true;
-      if (root()) {
-        const std::string then =
-            last_checkpoint_step_ >= 0
-                ? "the run then continues from its checkpoint of step " + std::to_string(last_checkpoint_step_)
-                : "no checkpoint yet: the run would start again";
-        // The rest of the cycle at its pace so far (its late ticks may cost more or less per tick).
-        const double spent = std::chrono::duration<double>(Clock::now() - step_start_).count();
-        std::fprintf(stderr,
-                     "sphdisk: stop requested %.0f%% into the block cycle of step %lld; the run stops with a checkpoint "
-                     "when the cycle ends (about %s more at its pace so far); signal again to stop now (%s)\n",
-                     100 * done / length, s_.step + 1, format_duration(spent * (length - done) / done).c_str(),
-                     then.c_str());
-      }
+    if (signals >= 2) throw StepLeft{false};
+    const bool stop = signals >= 1;
+    const bool due = cfg_.checkpoint_every_seconds > 0 &&
+                     std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds;
+    if (stop || domain_.any(due)) write_checkpoint_now();
+    if (stop) {
+      if (root())
+        std::fprintf(stderr, "sphdisk: stop requested: checkpoint written %.0f%% into the block cycle of step %lld\n",
+                     100 * done / length, s_.step + 1);
+      throw StepLeft{true};
     }
     progress(s_.step + 1, s_.time + done, length, done / length);
   }
@@ -465,9 +482,7 @@ class Runner {
   double trace_origin_us_ = 0;
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
   long long last_checkpoint_step_ = -1;  // -1: none yet
-  Clock::time_point step_start_ = Clock::now();  // of the step in progress
   long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
-  bool stop_acknowledged_ = false;
   struct {
     double t_begin = 0;         // simulated time at the start of advance()
     std::size_t updates = 0;    // particles given new rates since then (all ranks)
@@ -488,7 +503,9 @@ RunSummary Runner::advance() {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
     if (s_.step > steps_before) rebalance();
     // With reused lists, reorder when they are about to be rebuilt (a reorder forces a rebuild).
-    if (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0) {
+    // (Not when resumed inside a block cycle: its particles are kept in the order of that cycle.)
+    if (!integrator_->inside_step() &&
+        (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0)) {
       ScopedPhase timer(timers_, "reorder");
       // Without stored lists (the mode for runs that would not fit), what the evaluations rebuild
       // after a reorder is freed first: otherwise more pages stay with the process (200k ring, two
@@ -506,11 +523,12 @@ RunSummary Runner::advance() {
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
     double dt = 0;
-    step_start_ = Clock::now();
     try {
       dt = integrator_->step(p_, dt_cap);
-    } catch (const StepAbandoned&) {
-      interrupted = abandoned = true;  // nothing of the step is kept; the last checkpoint stays
+    } catch (const StepLeft& left) {
+      // Saved: the checkpoint inside the step holds it. Abandoned: the last checkpoint stays.
+      interrupted = true;
+      abandoned = !left.saved;
       break;
     }
     advance_.updates += domain_.comm().sum(std::uint64_t{rates_.particle_updates() - updates_before});
@@ -557,6 +575,7 @@ RunSummary Runner::advance() {
   sum.interrupted = interrupted;
   sum.abandoned = abandoned;
   sum.checkpoint_step = last_checkpoint_step_;
+  sum.checkpoint_inside_step = s_.step_state;
   const std::string per_rank = ranks_json();
   std::vector<std::string> traces;  // rank 0: every rank's trace events
   if (!opts_.trace_file.empty())
@@ -627,7 +646,8 @@ std::string interruption_note(const RunSummary& s) {
     return "stopped by a second signal inside a block cycle, before the run wrote any checkpoint; start the run "
            "again with sphdisk run";
   return "stopped by a second signal inside a block cycle, which was not saved; continue from the checkpoint of step " +
-         std::to_string(s.checkpoint_step) + " with: sphdisk resume " + s.output_dir;
+         std::to_string(s.checkpoint_step) + (s.checkpoint_inside_step ? " (inside the next cycle)" : "") +
+         " with: sphdisk resume " + s.output_dir;
 }
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {

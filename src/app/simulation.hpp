@@ -26,6 +26,7 @@ struct RunSummary {
   bool interrupted = false;  // stopped by SIGTERM/SIGINT after writing a checkpoint, or (abandoned) without
   bool abandoned = false;    // stopped by a second signal inside a step, which was not saved
   long long checkpoint_step = -1;  // the step of the run's last checkpoint (-1: none yet)
+  bool checkpoint_inside_step = false;  // that checkpoint was written inside the next step's block cycle
 };
 
 // What an interrupted run tells its user: where it stopped and how to continue.

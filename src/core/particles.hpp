@@ -24,6 +24,9 @@ enum FieldFlag : unsigned {
   kRateState = 1u << 4,   // read from the particles an evaluation does not update: with block
                           // timesteps a cycle's first partial evaluation reads those of the last
                           // full one, so their checkpoints hold these too (io/checkpoint.hpp)
+  kStepState = 1u << 5,   // a particle's state inside an integrator's step (block timesteps: its
+                          // step's start and length, the velocity and energy after its opening
+                          // kick); held by checkpoints written inside a step (io/checkpoint.hpp)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -34,7 +37,7 @@ inline constexpr bool kSinglePrecisionFields = false;
 #endif
 using ReducedReal = std::conditional_t<kSinglePrecisionFields, float, double>;
 
-enum class FieldKind { Id, Scalar, Vector, Tensor };
+enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 
 // name, kind, snapshot dataset name, flags, unit dimension (length, mass, time exponents) for output.
 // clang-format off
@@ -52,17 +55,26 @@ enum class FieldKind { Id, Scalar, Vector, Tensor };
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
-  X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)
+  X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)     \
+  X(step_ticks, Ticks, "StepTicks",      kStepState,                            0,  0,  0)     \
+  X(v_kick, Vector, "KickedVelocity",    kStepState,                            1,  0, -1)     \
+  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly,           2,  0, -2)
 // clang-format on
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
 // resumed run starts its solves where the uninterrupted one would.
+// step_ticks, v_kick, u_kick: block timesteps' per-particle state (integrate/block_leapfrog.cpp):
+// the start of the particle's current step on the cycle's integer time line (high 32 bits) and its
+// length in ticks (low 32 bits), and its velocity and internal energy after the step's opening half
+// kick. Fields rather than the integrator's own arrays so that they move with the particles (sorts,
+// ranks) and a checkpoint written inside a block cycle can hold them.
 // Density is the surface density in 2D (mass / length^2); in 3D its length exponent is -3 (see
 // field_length_exponent below).
 
 template <int D>
 struct FieldTypes {
   using Id = std::uint64_t;
+  using Ticks = std::uint64_t;
   using Scalar = double;
   using Vector = Vec<D>;
   using Tensor = Mat<D>;
@@ -121,9 +133,11 @@ struct Particles {
   }
 
   // Exact when the fields are first made (initial conditions, a checkpoint read); later growth
-  // (ghosts appended) keeps a margin.
-  void resize(std::size_t n) {
-    for_each_field([n](const FieldInfo&, auto& v) {
+  // (ghosts appended) keeps a margin. Fields with any of the flags `except` are left as they are
+  // (a working copy without them: app/rate_evaluator.cpp).
+  void resize(std::size_t n, unsigned except = 0) {
+    for_each_field([n, except](const FieldInfo& info, auto& v) {
+      if (info.flags & except) return;
       if (v.capacity() == 0) v.reserve(n);
       resize_snug(v, n);
     });

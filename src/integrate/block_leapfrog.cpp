@@ -30,12 +30,18 @@
 // beyond the drift, scales with the active particles, not with all of them. Every choice depends
 // only on a particle's own state and on global minima and maxima, so results do not depend on
 // thread or rank count. With every particle in one bin this is exactly the respa scheme.
+// Each particle's step (start and length) and its velocity and energy after the opening kick are
+// particle fields (kStepState, core/particles.hpp), so they move with it; between two ticks they,
+// the cycle's length and the ticks done are all a checkpoint needs to continue the cycle
+// (inside_step, step_state, resume_inside_step: integrator.hpp).
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+
+#include "core/error.hpp"
 
 #include "integrate/integrator.hpp"
 #include "integrate/orbit_drift.hpp"
@@ -46,8 +52,7 @@ namespace {
 
 constexpr int kMaxBins = 20;  // steps down to Delta / 2^20
 constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
-using Ticks = std::uint32_t;  // a step's start and length (4 bytes per particle each, not 8)
-static_assert(kMaxBins < 32, "a cycle's ticks fit in Ticks");
+static_assert(kMaxBins < 32, "a step's start and length fit in 32 bits each (Particles::step_ticks)");
 constexpr std::size_t kDriftBlock = 1024;  // particles per work unit of the drift
 
 // The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
@@ -69,13 +74,25 @@ class BlockLeapfrog final : public Integrator<D> {
   void start(Particles<D>& p) override { rates_.evaluate(p); }
   bool needs_rate_state() const override { return true; }
 
+  // Inside a cycle (between its ticks, or resumed into one and not yet continued) the particles
+  // carry their steps (kStepState fields); the cycle's length and the ticks done are the rest.
+  bool inside_step() const override { return now_ > 0; }
+  std::vector<double> step_state() const override { return {cycle_, static_cast<double>(now_)}; }
+  void resume_inside_step(const std::vector<double>& s) override {
+    if (s.size() != 2 || !(s[0] > 0) || !std::isfinite(s[0]) || !(s[1] >= 1) ||
+        !(s[1] < static_cast<double>(kTicks)) || s[1] != std::floor(s[1]))
+      throw UserError("the checkpoint's block-cycle state is not valid (cycle length and ticks done); resume from "
+                      "another checkpoint or start the run again");
+    cycle_ = s[0];
+    now_ = static_cast<std::uint64_t>(s[1]);
+  }
+
   double step(Particles<D>& p, double dt_cap) override {
     const PhysicsParams& phys = rates_.physics();
     const TimestepFactors& f = params_.factors;
     const std::size_t n = p.size();
     const bool energy = phys.evolve_energy;
-    double cycle = 0, tick = 0;
-    {
+    if (now_ == 0) {
       // Each particle's timestep is needed only to choose its step length: not kept (8 bytes per
       // particle less at the run's peak memory).
       std::vector<double> dt(n);
@@ -83,25 +100,23 @@ class BlockLeapfrog final : public Integrator<D> {
       const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt[i]; }));
       const double largest = rates_.global_max(
           par::reduce(n, 0.0, [&](std::size_t i) { return dt[i]; }, [](double a, double b) { return std::max(a, b); }));
-      cycle = std::min({dt_cap, params_.dt_max, largest, smallest * static_cast<double>(kTicks)});
-      tick = cycle / static_cast<double>(kTicks);
-
-      start_.assign(n, 0);
-      length_.resize(n);
-      v_kick_.resize(n);
-      u_half_.resize(energy ? n : 0);  // u is not integrated without an energy equation
+      cycle_ = std::min({dt_cap, params_.dt_max, largest, smallest * static_cast<double>(kTicks)});
+      const double tick = cycle_ / static_cast<double>(kTicks);
       ScopedPhase timer(rates_.timers(), "integration");
       par::for_each(n, [&](std::size_t i) {
-        length_[i] = static_cast<Ticks>(step_ticks(dt[i], tick, 0));
+        set_step(p, i, 0, step_ticks(dt[i], tick, 0));
         open_step(p, i, tick, energy);
       }, "integration");
     }
     {
+      // (Resumed inside a cycle, the particles may come in another order: a checkpoint of several
+      // ranks is read in ID order.)
       ScopedPhase timer(rates_.timers(), "integration");
       sort_by_length(p, n);
     }
-    for (std::uint64_t now = 0; now < kTicks;) {
-      const std::uint64_t next = next_tick(n);
+    const double tick = cycle_ / static_cast<double>(kTicks);
+    for (std::uint64_t now = now_; now < kTicks;) {
+      const std::uint64_t next = next_tick(p, n);
       const double dt = static_cast<double>(next - now) * tick;
       std::size_t active = 0;
       {
@@ -110,76 +125,88 @@ class BlockLeapfrog final : public Integrator<D> {
           const std::size_t i0 = b * kDriftBlock, i1 = std::min(n, i0 + kDriftBlock);
           // Moved in the point mass's field, stresses turned with the orbit (active particles get
           // theirs anew): orbit_drift.hpp.
-          drift_and_turn(p.pos.data() + i0, v_kick_.data() + i0, p.stress.data() + i0, i1 - i0, dt, phys.gm, f.substep);
+          drift_and_turn(p.pos.data() + i0, p.v_kick.data() + i0, p.stress.data() + i0, i1 - i0, dt, phys.gm, f.substep);
           for (std::size_t i = i0; i < i1; ++i) {
             // predicted to `next`: t - t_mid = (next - start - length / 2) ticks
-            const double ahead = (static_cast<double>(next - start_[i]) - 0.5 * static_cast<double>(length_[i])) * tick;
-            p.vel[i] = v_kick_[i] + p.acc[i] * ahead;
-            if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * ahead;
+            const double ahead =
+                (static_cast<double>(next - start_of(p, i)) - 0.5 * static_cast<double>(length_of(p, i))) * tick;
+            p.vel[i] = p.v_kick[i] + p.acc[i] * ahead;
+            if (energy) p.u[i] = p.u_kick[i] + p.du_dt[i] * ahead;
           }
         }, "integration", 1);
-        active = active_prefix(next);
+        active = active_prefix(p, next);
       }
       rates_.evaluate(p, active);
       {
         ScopedPhase timer(rates_.timers(), "integration");
         par::for_each(active, [&](std::size_t i) {
-          const double half = 0.5 * static_cast<double>(length_[i]) * tick;
-          p.vel[i] = v_kick_[i] + p.acc[i] * half;  // closing kick
-          if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
+          const double half = 0.5 * static_cast<double>(length_of(p, i)) * tick;
+          p.vel[i] = p.v_kick[i] + p.acc[i] * half;  // closing kick
+          if (energy) p.u[i] = p.u_kick[i] + p.du_dt[i] * half;
           if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
-          start_[i] = static_cast<Ticks>(next);
-          length_[i] = static_cast<Ticks>(step_ticks(particle_timestep(p, i, phys, f), tick, next));
+          set_step(p, i, next, step_ticks(particle_timestep(p, i, phys, f), tick, next));
           open_step(p, i, tick, energy);
         }, "integration");
         if (next != kTicks) group_by_length(p, active);
       }
       now = next;
-      if (now < kTicks) this->substep_done(static_cast<double>(now) * tick, cycle);
+      now_ = now < kTicks ? now : 0;
+      if (now < kTicks) this->substep_done(static_cast<double>(now) * tick, cycle_);
     }
-    return cycle;
+    return cycle_;
   }
 
-  std::size_t bytes() const override {
-    return u_half_.capacity() * sizeof(double) + (start_.capacity() + length_.capacity()) * sizeof(Ticks) +
-           v_kick_.capacity() * sizeof(Vec<D>) + (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t);
-  }
+  std::size_t bytes() const override { return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t); }
 
  private:
-  void open_step(const Particles<D>& p, std::size_t i, double tick, bool energy) {
-    const double half = 0.5 * static_cast<double>(length_[i]) * tick;
-    v_kick_[i] = p.vel[i] + p.acc[i] * half;
-    if (energy) u_half_[i] = p.u[i] + p.du_dt[i] * half;
+  // A particle's step: its start (high 32 bits of step_ticks) and length (low 32 bits), in ticks.
+  static std::uint64_t start_of(const Particles<D>& p, std::size_t i) { return p.step_ticks[i] >> 32; }
+  static std::uint64_t length_of(const Particles<D>& p, std::size_t i) { return p.step_ticks[i] & 0xFFFFFFFFu; }
+  static std::uint64_t end_of(const Particles<D>& p, std::size_t i) { return start_of(p, i) + length_of(p, i); }
+  static void set_step(Particles<D>& p, std::size_t i, std::uint64_t start, std::uint64_t length) {
+    p.step_ticks[i] = start << 32 | length;
   }
 
-  std::uint64_t next_tick(std::size_t n) const {
-    const double mine = smallest_timestep(n, [&](std::size_t i) { return static_cast<double>(start_[i] + length_[i]); });
+  void open_step(Particles<D>& p, std::size_t i, double tick, bool energy) {
+    const double half = 0.5 * static_cast<double>(length_of(p, i)) * tick;
+    p.v_kick[i] = p.vel[i] + p.acc[i] * half;
+    if (energy) p.u_kick[i] = p.u[i] + p.du_dt[i] * half;
+  }
+
+  std::uint64_t next_tick(const Particles<D>& p, std::size_t n) const {
+    const double mine = smallest_timestep(n, [&](std::size_t i) { return static_cast<double>(end_of(p, i)); });
     return static_cast<std::uint64_t>(rates_.global_min(mine));  // ticks < 2^53: exact as doubles
   }
 
   // The number of particles whose step ends at `tick`: a prefix (see the top of this file; checked,
-  // since a particle left out would silently miss its kick; a parallel count over two arrays).
-  std::size_t active_prefix(std::uint64_t tick) const {
-    const std::size_t n = start_.size();
+  // since a particle left out would silently miss its kick; a parallel count).
+  std::size_t active_prefix(const Particles<D>& p, std::uint64_t tick) const {
+    const std::size_t n = p.size();
     std::size_t active = 0;
-    while (active < n && start_[active] + length_[active] == tick) ++active;
-    const std::size_t strays = par::sum<std::size_t>(n - active, [&](std::size_t k) {
-      return std::size_t{start_[active + k] + length_[active + k] == tick};
-    });
+    while (active < n && end_of(p, active) == tick) ++active;
+    const std::size_t strays =
+        par::sum<std::size_t>(n - active, [&](std::size_t k) { return std::size_t{end_of(p, active + k) == tick}; });
     if (strays > 0) throw std::logic_error("block timesteps: the active particles are not a prefix");
     return active;
   }
 
-  // Stable counting sort of the first `count` particles (and this integrator's per-particle state)
-  // by step length, shortest first; nothing is moved when they are in order already. At the start
-  // of a cycle (just after the particles were put in cell order), so that each bin keeps that order.
+  // Whether the first `count` particles are grouped by step length, shortest first.
+  static bool grouped(const Particles<D>& p, std::size_t count) {
+    for (std::size_t i = 1; i < count; ++i)
+      if (length_of(p, i) < length_of(p, i - 1)) return false;
+    return true;
+  }
+
+  // Stable counting sort of the first `count` particles by step length, shortest first; nothing is
+  // moved when they are in order already. At the start of a cycle (just after the particles were
+  // put in cell order), so that each bin keeps that order.
   void sort_by_length(Particles<D>& p, std::size_t count) {
-    if (std::is_sorted(length_.begin(), length_.begin() + static_cast<std::ptrdiff_t>(count))) return;
-    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(count);
+    if (grouped(p, count)) return;
+    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(p, count);
     std::array<std::size_t, kMaxBins + 2> next = first;
     order_.resize(count);
-    for (std::size_t i = 0; i < count; ++i) order_[next[bin(i)]++] = static_cast<std::uint32_t>(i);
-    for_each_array(p, [this](auto& v) { par::permute_prefix(v, order_, "integration"); });
+    for (std::size_t i = 0; i < count; ++i) order_[next[bin(p, i)]++] = static_cast<std::uint32_t>(i);
+    p.for_each_field([this](const FieldInfo&, auto& v) { par::permute_prefix(v, order_, "integration"); });
   }
 
   // The same grouping inside a cycle, moving only the particles outside their bin's range: the k-th
@@ -190,14 +217,14 @@ class BlockLeapfrog final : public Integrator<D> {
   // values (the pair sums follow cell order), only the round-off of sums over all particles such
   // as the diagnostics' energy, and it is the same for any thread count.
   void group_by_length(Particles<D>& p, std::size_t count) {
-    if (std::is_sorted(length_.begin(), length_.begin() + static_cast<std::ptrdiff_t>(count))) return;
-    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(count);
+    if (grouped(p, count)) return;
+    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(p, count);
     // Out-of-range particles (sources) and the places they leave (holes), each counted by bin.
     std::array<std::size_t, kMaxBins + 2> source_at{}, hole_at{};
     std::size_t region = 0, misplaced = 0;
     for (std::size_t k = 0; k < count; ++k) {
       while (k >= first[region + 1]) ++region;
-      const std::size_t b = bin(k);
+      const std::size_t b = bin(p, k);
       if (b == region) continue;
       ++source_at[b + 1];
       ++hole_at[region + 1];
@@ -212,41 +239,32 @@ class BlockLeapfrog final : public Integrator<D> {
     region = 0;
     for (std::size_t k = 0; k < count; ++k) {
       while (k >= first[region + 1]) ++region;
-      const std::size_t b = bin(k);
+      const std::size_t b = bin(p, k);
       if (b == region) continue;
       order_[source_at[b]++] = static_cast<std::uint32_t>(k);
       holes_[hole_at[region]++] = static_cast<std::uint32_t>(k);
     }
-    for_each_array(p, [this](auto& v) { par::move_values(v, order_, holes_, "integration"); });
+    // (Every field in turn, in parallel inside: a serial Particles::gather was most of this
+    // integrator's own time.)
+    p.for_each_field([this](const FieldInfo&, auto& v) { par::move_values(v, order_, holes_, "integration"); });
   }
 
-  // f(v) for every per-particle array that moves with the particles: the fields and this
-  // integrator's own, each in turn, in parallel inside f (a serial Particles::gather was most of
-  // this integrator's own time).
-  template <class F>
-  void for_each_array(Particles<D>& p, F&& f) {
-    p.for_each_field([&f](const FieldInfo&, auto& v) { f(v); });
-    f(start_);
-    f(length_);
-    f(v_kick_);
-    if (!u_half_.empty()) f(u_half_);
+  static std::size_t bin(const Particles<D>& p, std::size_t i) {
+    return static_cast<std::size_t>(std::countr_zero(length_of(p, i)));
   }
-
-  std::size_t bin(std::size_t i) const { return static_cast<std::size_t>(std::countr_zero(length_[i])); }
 
   // first[k]: where the particles of 2^k ticks start among the first `count` once grouped by length.
-  std::array<std::size_t, kMaxBins + 2> bin_starts(std::size_t count) const {
+  static std::array<std::size_t, kMaxBins + 2> bin_starts(const Particles<D>& p, std::size_t count) {
     std::array<std::size_t, kMaxBins + 2> first{};
-    for (std::size_t i = 0; i < count; ++i) ++first[bin(i) + 1];
+    for (std::size_t i = 0; i < count; ++i) ++first[bin(p, i) + 1];
     for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
     return first;
   }
 
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
-  std::vector<Ticks> start_, length_;
-  std::vector<Vec<D>> v_kick_;  // velocity after the opening kick, moved in the point-mass field since
-  std::vector<double> u_half_;
+  double cycle_ = 0;       // the length of the cycle in progress
+  std::uint64_t now_ = 0;  // its ticks done, while inside it (0 between cycles)
   std::vector<std::uint32_t> order_, holes_;
 };
 

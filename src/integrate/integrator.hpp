@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/rate_evaluator.hpp"
+#include "core/error.hpp"
 #include "integrate/timestep.hpp"
 
 namespace sphdisk {
@@ -49,11 +50,24 @@ class Integrator {
   // Between steps all per-particle state lives in Particles (acc and du_dt are checkpointed), so
   // particles may be removed or reordered freely between calls.
 
+  // A step with substeps (a block cycle) is inside_step() between them, where the substep hook
+  // below is called: the particles then also carry their kStepState fields, and step_state() is
+  // the rest of what the step needs to go on. A checkpoint written there holds both, and
+  // resume_inside_step(state) makes the next step() continue the interrupted one (after which it
+  // is inside_step() until it goes on). Throws UserError for an integrator without such steps.
+  virtual bool inside_step() const { return false; }
+  virtual std::vector<double> step_state() const { return {}; }
+  virtual void resume_inside_step(const std::vector<double>& s) {
+    (void)s;
+    throw UserError("the checkpoint was written inside a block-timestep cycle: resume it with integrator.scheme = "
+                    "\"block\"");
+  }
+
   // Called between the substeps of a step that has them (block timesteps: after each tick of a
   // cycle but the last, on every rank at the same tick) with the time done and the step's length:
   // a cycle of a large run can take hours, and this is where the caller shows progress and hears
-  // a request to stop. The hook may throw to abandon the step; the particles are then between
-  // substeps, a state that no output or checkpoint may record.
+  // a request to stop, or writes a checkpoint (see inside_step above). The hook may throw to leave
+  // the step; the particles are then between substeps, which only such a checkpoint may record.
   using SubstepHook = std::function<void(double done, double length)>;
   void on_substep(SubstepHook hook) { substep_hook_ = std::move(hook); }
 

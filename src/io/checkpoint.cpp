@@ -24,7 +24,9 @@ constexpr int kDim = 2;
 // lack: their particles start without one, as new particles do.
 // Format 4 (2026-12-03): attribute RateState; where it is 1 the kRateState fields are stored too (in
 // double precision, whatever their storage), as a block-timestep run needs them to continue.
-constexpr long long kFormatVersion = 4;
+// Format 5 (2026-12-03): attribute StepState; where it is 1 the checkpoint was written inside a
+// block cycle, holds the kStepState fields, and IntegratorState is the cycle's state.
+constexpr long long kFormatVersion = 5;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
@@ -68,6 +70,7 @@ std::uint64_t state_hash(const RunState& s) {
   c.add(s.smoothing_length);
   for (double v : s.integrator) c.add(v);
   if (s.rate_state) c.add(1LL);  // (absent from earlier formats' hashes)
+  if (s.step_state) c.add(2LL);  // (absent from formats before 5)
   c.add(s.config_toml.data(), s.config_toml.size());
   return c.h;
 }
@@ -88,13 +91,13 @@ std::uint64_t row_sum(std::size_t field, std::size_t first_row, const std::vecto
   return sum;
 }
 
-// Calls f(info, field, index) for each checkpoint field (with the kRateState ones if rate_state),
-// index counting them in table order.
+// Calls f(info, field, index) for each field the checkpoint of state s holds, index counting them
+// in table order.
 template <class P, class F>
-void for_each_checkpoint_field(P& p, bool rate_state, F&& f) {
+void for_each_checkpoint_field(P& p, const RunState& s, F&& f) {
   std::size_t index = 0;
   p.for_each_field([&](const FieldInfo& info, auto& field) {
-    if (info.flags & checkpoint_field_flags(rate_state)) f(info, field, index++);
+    if (info.flags & checkpoint_field_flags(s)) f(info, field, index++);
   });
 }
 
@@ -103,7 +106,7 @@ void for_each_checkpoint_field(P& p, bool rate_state, F&& f) {
 void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
                             const Particles<2>& p, const RunState& s) {
   std::uint64_t sum = 0;
-  for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo&, const auto& field, std::size_t f) {
+  for_each_checkpoint_field(p, s, [&](const FieldInfo&, const auto& field, std::size_t f) {
     sum += row_sum(f, first_row, field);
   });
   const std::uint64_t total = comm.sum(sum) + state_hash(s);  // unsigned: wraps mod 2^64 on every rank alike
@@ -125,8 +128,9 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::write_attr(g, "NumParticles", static_cast<long long>(n));
     h5::write_attr(g, "Checksum", std::to_string(total));
     h5::write_attr(g, "RateState", s.rate_state ? 1LL : 0LL);
+    h5::write_attr(g, "StepState", s.step_state ? 1LL : 0LL);
     h5::Handle parts = h5::create_group(file, "Particles");
-    for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo& info, const auto& field, std::size_t) {
+    for_each_checkpoint_field(p, s, [&](const FieldInfo& info, const auto& field, std::size_t) {
       using T = typename std::decay_t<decltype(field)>::value_type;
       const bool ids = std::is_same_v<T, std::uint64_t>;
       const h5::Handle ds = h5::create_dataset(parts, std::string(info.name), ids, n, components<T>());
@@ -192,6 +196,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   s.integrator.resize(static_cast<std::size_t>(state_size));
   s.config_toml = h5::read_attr_string(g, "Config", path);
   s.rate_state = out.version >= 4 && num("RateState") != 0;
+  s.step_state = out.version >= 5 && num("StepState") != 0;
   const double n_attr = num("NumParticles");
   out.checksum = h5::read_attr_string(g, "Checksum", path);
 
@@ -205,7 +210,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<2>& p = out.particles;
   p.resize(rows_read);
-  for_each_checkpoint_field(p, s.rate_state, [&](const FieldInfo& info, auto& field, std::size_t f) {
+  for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     const std::string name(info.name);
     if (out.version < 3 && added_in_format3(name) && !h5::exists(parts, name)) {

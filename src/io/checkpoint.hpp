@@ -2,7 +2,7 @@
 // Checkpoints: everything needed to continue a run bit-for-bit, in one HDF5 file (portable across
 // machines, thread and rank counts). Particles are stored in memory order (in ID order from a
 // distributed run) with every field flagged kCheckpoint (and kRateState where RunState::rate_state
-// asks for them: block timesteps); the run state (time, step, next output, accretion tallies,
+// asks for them: block timesteps; and kStepState where it was written inside a block cycle); the run state (time, step, next output, accretion tallies,
 // integrator state) and the resolved configuration are attributes. A 64-bit checksum over all of it detects corruption; it is a
 // sum over rows (format 2), so ranks writing or reading their own rows can add theirs up.
 // Written atomically (temporary file, fsync, rename): the previous checkpoint stays intact until
@@ -24,12 +24,17 @@ struct RunState {
   double smoothing_length = 0;
   std::vector<double> integrator;   // the integrator's own state (e.g. next RK step size)
   bool rate_state = false;          // the particles' kRateState fields are (to be) in the checkpoint too
+  bool step_state = false;          // written inside a step (a block cycle): the kStepState fields are
+                                    // in it too, and `integrator` is the step's state
+                                    // (Integrator::step_state; time and step are those before it)
   std::string config_toml;          // resolved configuration of the run
 };
 
-// The field flags whose fields a checkpoint holds: kCheckpoint, and kRateState where the run needs
-// those (RunState::rate_state).
-inline unsigned checkpoint_field_flags(bool rate_state) { return rate_state ? kCheckpoint | kRateState : kCheckpoint; }
+// The field flags whose fields a checkpoint holds: kCheckpoint, kRateState where the run needs those
+// (RunState::rate_state), kStepState where it was written inside a step (RunState::step_state).
+inline unsigned checkpoint_field_flags(const RunState& s) {
+  return kCheckpoint | (s.rate_state ? kRateState : 0u) | (s.step_state ? kStepState : 0u);
+}
 
 void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s);
 

@@ -45,7 +45,7 @@ void write_checkpoint(const Communicator& comm, const std::string& path, const P
     write_checkpoint(path, p, s);
     return;
   }
-  const Particles<2> mine = regroup_by_id(comm, p, fields_with<2>(checkpoint_field_flags(s.rate_state)));
+  const Particles<2> mine = regroup_by_id(comm, p, fields_with<2>(checkpoint_field_flags(s)));
   write_checkpoint_share(path, comm, comm.sum(p.size()), first_row(comm, mine.size()), mine, s);
 }
 

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <functional>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -56,6 +57,26 @@ template <class T>
 void expect_same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   ASSERT_EQ(a.size(), b.size());
   EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(T)));
+}
+
+// p and s written to a checkpoint at path and read back (the state into r).
+Particles<2> round_trip(const Particles<2>& p, const RunState& s, const fs::path& path, RunState& r) {
+  write_checkpoint(path.string(), p, s);
+  return read_checkpoint(path.string(), r);
+}
+
+// Changes entries of a file's dataset of `entries` doubles or 64-bit integers in place: read whole,
+// change(all), written back.
+template <class T>
+void change_entries(const fs::path& path, const char* dataset, std::size_t entries,
+                    const std::function<void(std::vector<T>&)>& change) {
+  const hid_t type = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_UINT64;
+  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  h5::Handle ds(H5Dopen2(f, dataset, H5P_DEFAULT), H5Dclose);
+  std::vector<T> all(entries);
+  ASSERT_GE(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
+  change(all);
+  ASSERT_GE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
 }
 
 // Format 1's checksum, as its writer computed it: FNV-1a over the state, then over every
@@ -116,9 +137,11 @@ TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
 }
 
 // Block timesteps need the last evaluation's density, volume, stress and moment correction to
-// continue (kRateState): with RunState::rate_state they round-trip bit for bit (single-precision
-// storage too, widened in the file), they enter the checksum, and without it they are not written.
-TEST(Checkpoint, RateStateRoundTripsBitForBitWhenAskedFor) {
+// continue (kRateState), and a checkpoint written inside a block cycle the particles' steps in it
+// (kStepState: the 64-bit step ticks whole, the kicked velocity and energy) and the cycle's state:
+// with RunState::rate_state and step_state they round-trip bit for bit (single-precision storage
+// too, widened in the file), they enter the checksum, and without those flags they are not written.
+TEST(Checkpoint, RateAndStepStateRoundTripBitForBitWhenAskedFor) {
   Particles<2> p = sample_particles();
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double x = 1.0 + 1e-3 * static_cast<double>(i);
@@ -128,36 +151,51 @@ TEST(Checkpoint, RateStateRoundTripsBitForBitWhenAskedFor) {
       p.stress[i].c[c] = static_cast<ReducedReal>(x / static_cast<double>(7 + c));
       p.correction[i].c[c] = static_cast<ReducedReal>(-x / static_cast<double>(11 + c));
     }
+    p.step_ticks[i] = (std::uint64_t{3 * i + 1} << 32) | (std::uint64_t{1} << (i % 20));
+    p.v_kick[i] = {1.0 / (x + 3.0), -2.0 / (x + 7.0)};
+    p.u_kick[i] = 5.0 / (x + 11.0);
   }
   RunState s = sample_state();
-  s.rate_state = true;
+  s.rate_state = s.step_state = true;
+  s.integrator = {0.125, 4096.0};
   const fs::path path = temp_file("rate_state.h5");
-  write_checkpoint(path.string(), p, s);
   RunState r;
-  const Particles<2> q = read_checkpoint(path.string(), r);
+  const Particles<2> q = round_trip(p, s, path, r);
   EXPECT_TRUE(r.rate_state);
+  EXPECT_TRUE(r.step_state);
+  EXPECT_EQ(r.integrator, s.integrator);
   expect_same_bits(p.rho, q.rho);
   expect_same_bits(p.volume, q.volume);
   expect_same_bits(p.stress, q.stress);
   expect_same_bits(p.correction, q.correction);
   expect_same_bits(p.pos, q.pos);
-  {  // a changed stress entry fails the checksum
-    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
-    h5::Handle ds(H5Dopen2(f, "Particles/stress", H5P_DEFAULT), H5Dclose);
-    std::vector<double> all(p.size() * 4);
-    ASSERT_GE(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
-    all[4 * 17 + 1] *= 2.0;
-    ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
-  }
+  EXPECT_EQ(p.step_ticks, q.step_ticks);
+  expect_same_bits(p.v_kick, q.v_kick);
+  expect_same_bits(p.u_kick, q.u_kick);
+  // a changed stress entry or step start fails the checksum
+  change_entries<double>(path, "Particles/stress", p.size() * 4, [](std::vector<double>& all) { all[4 * 17 + 1] *= 2.0; });
+  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  write_checkpoint(path.string(), p, s);
+  change_entries<std::uint64_t>(path, "Particles/step_ticks", p.size(),
+                                [](std::vector<std::uint64_t>& all) { all[9] += std::uint64_t{1} << 32; });
   EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
 
+  const auto holds = [&](const char* dataset) {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    return h5::exists(f, dataset);
+  };
+  s.step_state = false;
+  const Particles<2> between_steps = round_trip(p, s, path, r);
+  EXPECT_FALSE(r.step_state);
+  EXPECT_TRUE(r.rate_state);
+  EXPECT_EQ(between_steps.step_ticks[5], 0u);
+  EXPECT_FALSE(holds("Particles/v_kick"));
+  EXPECT_TRUE(holds("Particles/stress"));
   s.rate_state = false;
-  write_checkpoint(path.string(), p, s);
-  const Particles<2> without = read_checkpoint(path.string(), r);
+  const Particles<2> without = round_trip(p, s, path, r);
   EXPECT_FALSE(r.rate_state);
   EXPECT_EQ(without.rho[5], ReducedReal{0});
-  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  EXPECT_FALSE(h5::exists(f, "Particles/stress"));
+  EXPECT_FALSE(holds("Particles/stress"));
 }
 
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {

@@ -3,6 +3,7 @@
 // any thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -232,9 +233,9 @@ TEST(Integrators, BlockTimestepsAreAccurateAndUpdateFewerParticles) {
 
 // The integrator's own per-particle state is counted (ranks.json memory_bytes.integrator): after a
 // step, at least the arrays each scheme keeps per particle whatever the equation of state (leapfrog:
-// the half-step velocity; block steps: the velocity after the opening kick and each step's start
-// and length; Runge-Kutta 4(5): the initial positions, velocities and accelerations and six
-// stages' rates of x and v).
+// the half-step velocity; Runge-Kutta 4(5): the initial positions, velocities and accelerations and
+// six stages' rates of x and v). (Block steps keep theirs in the particles' kStepState fields,
+// counted with the particles.)
 TEST(Integrators, ReportTheMemoryOfTheirPerParticleState) {
   const RingSetup s = small_ring(400, 1e-3);
   PhysicsParams phys;
@@ -242,7 +243,6 @@ TEST(Integrators, ReportTheMemoryOfTheirPerParticleState) {
   PhaseTimers timers;
   const std::pair<Scheme, std::size_t> expected[] = {
       {Scheme::Leapfrog, sizeof(Vec<2>)},
-      {Scheme::Block, sizeof(Vec<2>) + 2 * sizeof(std::uint32_t)},
       {Scheme::RK45, 3 * sizeof(Vec<2>) + 6 * 2 * sizeof(Vec<2>)}};
   for (const auto& [scheme, per_particle] : expected) {
     Particles<2> p = make_ring(s);
@@ -260,17 +260,32 @@ TEST(Integrators, ReportTheMemoryOfTheirPerParticleState) {
 // Block cycles report between their ticks (Integrator::on_substep): times inside the cycle,
 // increasing, never its end; the results are those without the hook; and a hook that throws
 // abandons the step by its exception (how a second stop signal ends a long cycle).
+// A ring whose block cycles have several bins, for the tests of what happens between their ticks.
+struct SeveralBinRing {
+  RingSetup s = small_ring(1500, 4.778e-5);
+  PhysicsParams phys = [] {
+    PhysicsParams p;
+    p.nu = 4.778e-5;
+    return p;
+  }();
+  IntegratorParams ip = [] {
+    IntegratorParams i;
+    i.scheme = Scheme::Block;
+    i.factors.orbital = 0.1;  // several bins
+    return i;
+  }();
+  RateEvaluator<2> rates(PhaseTimers& timers) const {
+    return RateEvaluator<2>(KernelType::Cubic, ring_smoothing_length(s, 60), phys, timers);
+  }
+};
+
 TEST(Integrators, BlockCyclesCallTheSubstepHookBetweenTicks) {
-  const RingSetup s = small_ring(1500, 4.778e-5);
-  PhysicsParams phys;
-  phys.nu = 4.778e-5;
-  IntegratorParams ip;
-  ip.scheme = Scheme::Block;
-  ip.factors.orbital = 0.1;  // several bins
+  const SeveralBinRing ring;
+  const RingSetup& s = ring.s;
   const auto run_cycle = [&](const Integrator<2>::SubstepHook& hook, Particles<2>& p) {
     PhaseTimers timers;
-    RateEvaluator<2> rates(KernelType::Cubic, ring_smoothing_length(s, 60), phys, timers);
-    auto integ = make_integrator<2>(ip, rates);
+    RateEvaluator<2> rates = ring.rates(timers);
+    auto integ = make_integrator<2>(ring.ip, rates);
     if (hook) integ->on_substep(hook);
     integ->start(p);
     return integ->step(p, 1.0);
@@ -292,4 +307,58 @@ TEST(Integrators, BlockCyclesCallTheSubstepHookBetweenTicks) {
   struct Abandon {};
   Particles<2> abandoned = make_ring(s);
   EXPECT_THROW(run_cycle([](double, double) { throw Abandon{}; }, abandoned), Abandon);
+}
+
+// A block cycle left between two of its ticks and continued by another integrator from what a
+// checkpoint written there holds (the particles, with their steps in the kStepState fields, in
+// another memory order as after a read by several ranks, and the cycle's state) ends with the
+// particles of the uninterrupted cycle, bit for bit; an integrator without such cycles refuses that
+// state with a UserError.
+TEST(Integrators, BlockCycleLeftBetweenTicksContinuesBitForBit) {
+  const SeveralBinRing ring;
+  IntegratorParams ip = ring.ip;
+  PhaseTimers timers;
+  RateEvaluator<2> rates = ring.rates(timers);
+  Particles<2> plain = make_ring(ring.s);
+  auto integ = make_integrator<2>(ip, rates);
+  integ->start(plain);
+  Particles<2> left = plain;
+  std::vector<double> done;
+  integ->on_substep([&](double d, double) { done.push_back(d); });
+  const double length = integ->step(plain, 1.0);
+  ASSERT_GE(done.size(), 3u);
+  std::printf("block cycle of %zu ticks, left after the first\n", done.size() + 1);
+
+  struct Leave {};
+  integ->on_substep([&](double, double) { throw Leave{}; });  // after the first tick
+  integ->start(left);
+  ASSERT_THROW(integ->step(left, 1.0), Leave);
+  ASSERT_TRUE(integ->inside_step());
+  const std::vector<double> state = integ->step_state();
+  std::vector<std::uint32_t> reversed(left.size());  // another order
+  for (std::size_t i = 0; i < left.size(); ++i) reversed[i] = static_cast<std::uint32_t>(left.size() - 1 - i);
+  left.gather(reversed);
+
+  RateEvaluator<2> fresh_rates = ring.rates(timers);
+  auto resumed = make_integrator<2>(ip, fresh_rates);
+  resumed->resume_inside_step(state);
+  EXPECT_TRUE(resumed->inside_step());
+  EXPECT_EQ(resumed->step(left, 1.0), length);
+  EXPECT_FALSE(resumed->inside_step());
+  const auto by_id = [](Particles<2>& p) {
+    std::vector<std::uint32_t> order(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
+    p.gather(order);
+  };
+  by_id(plain);
+  by_id(left);
+  EXPECT_EQ(plain.pos, left.pos);
+  EXPECT_EQ(plain.vel, left.vel);
+  EXPECT_EQ(plain.acc, left.acc);
+
+  ip.scheme = Scheme::Leapfrog;
+  auto other = make_integrator<2>(ip, fresh_rates);
+  EXPECT_THROW(other->resume_inside_step(state), UserError);
+  EXPECT_THROW(resumed->resume_inside_step({length, 0.0}), UserError);  // no tick done: not inside
 }

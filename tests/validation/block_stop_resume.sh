@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Block-timestep runs shown, stopped and resumed inside their cycles, which can last hours in a large
 # run. Progress lines come from inside a cycle. A block cycle's first partial evaluation reads the density
-# and stress of the last full one, so checkpoints carry them (kRateState) and a resumed run must end
-# with the particles of an uninterrupted one: after SIGKILL, after one stop signal inside a cycle
-# (honoured when the cycle ends), after a second one (the cycle abandoned, the last checkpoint
-# kept), and from a checkpoint written by two MPI ranks (when MPIEXEC is given). Signals inside a
-# cycle are raised by the testing aid run.inject_interrupt_at_substep, so they land at a known tick.
+# and stress of the last full one, so checkpoints carry them (kRateState); a checkpoint written inside
+# a cycle also carries the particles' steps in it (kStepState) and the cycle's state. A resumed run
+# must end with the particles of an uninterrupted one: after SIGKILL (checkpoints at cycle ends, or
+# inside cycles every so many seconds), after one stop signal inside a cycle (a checkpoint inside
+# it), after a second one (the cycle abandoned, the last checkpoint kept), and across rank counts
+# inside a cycle (when MPIEXEC is given). Signals inside a cycle are raised by the testing aid
+# run.inject_interrupt_at_substep, so they land at a known tick.
 # Usage: block_stop_resume.sh SPHDISK [MPIEXEC]
 set -uo pipefail
 sphdisk=$1
@@ -25,9 +27,13 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev
 same_particles_as_reference() {
   for f in snapshot_001.hdf5 snapshot_002.hdf5; do h5diff -q "$work/ref/$f" "$1/$f" /PartType0 /PartType0 || return 1; done
 }
-checkpoint_step() {
-  /usr/bin/python3 -c "import h5py,sys; print(int(h5py.File(sys.argv[1])['Checkpoint'].attrs['Step']))" "$1/checkpoint.hdf5" 2> /dev/null || echo none
+checkpoint_attr() {
+  /usr/bin/python3 -c "import h5py,sys; print(int(h5py.File(sys.argv[1])['Checkpoint'].attrs[sys.argv[2]]))" "$1/checkpoint.hdf5" "$2" 2> /dev/null || echo none
 }
+checkpoint_step() { checkpoint_attr "$1" Step; }
+inside_cycle() { [ "$(checkpoint_attr "$1" StepState)" = 1 ]; }
+# diagnostics.csv without its wall-time column
+diagnostics() { cut -d, -f1-11 "$1/diagnostics.csv"; }
 # Runs into $work/$1 with the extra settings after it, stopped by injected signals: sets dir, rc,
 # step (of its checkpoint) and err (its stderr's file).
 stopped_run() {
@@ -47,36 +53,78 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -o "$work/progress" "${args[@]}" --se
 inside=$(grep -c "into the step's block cycle" "$work/progress.err")
 if [ "$inside" -gt 3 ]; then ok "progress lines inside block cycles ($inside in 3 cycles)"; else bad "progress inside cycles: $inside lines"; fi
 
-# SIGKILL once the run has passed step 20 (checkpoints every 3 cycles); resumed on 1 thread.
-dir=$work/kill
-OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set checkpoint.every_steps=3 > /dev/null 2>&1 &
-pid=$!
-for _ in $(seq 4000); do
-  [ -e "$dir/checkpoint.hdf5" ] && [ "$(wc -l < "$dir/diagnostics.csv")" -gt 20 ] && break
-  sleep 0.005
-done
-kill -9 $pid 2> /dev/null
-wait $pid 2> /dev/null
-rc=$?
-step=$(checkpoint_step "$dir")
-if [ $rc -eq 137 ] && OMP_NUM_THREADS=1 timeout -s KILL 120 "$sphdisk" resume "$dir" -q > /dev/null &&
-   same_particles_as_reference "$dir"; then
+# Runs into $work/$1 with the setting $2 and kills it with SIGKILL once it has passed step 20 and its
+# checkpoint passes the test $3 (a command given the directory): sets dir, rc and step.
+killed_run() {
+  dir=$work/$1
+  OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set "$2" > /dev/null 2>&1 &
+  local pid=$!
+  for _ in $(seq 4000); do
+    [ -e "$dir/checkpoint.hdf5" ] && [ "$(wc -l 2> /dev/null < "$dir/diagnostics.csv" || echo 0)" -gt 20 ] && "$3" "$dir" && break
+    sleep 0.005
+  done
+  kill -9 $pid 2> /dev/null
+  wait $pid 2> /dev/null
+  rc=$?
+  step=$(checkpoint_step "$dir")
+}
+resumed_on_one_thread() { OMP_NUM_THREADS=1 timeout -s KILL 120 "$sphdisk" resume "$1" -q > /dev/null && same_particles_as_reference "$1"; }
+
+# Checkpoints every 3 cycles; resumed on 1 thread.
+killed_run kill checkpoint.every_steps=3 true
+if [ $rc -eq 137 ] && resumed_on_one_thread "$dir"; then
   ok "block steps: SIGKILL after step 20 (checkpoint of step $step), resumed on 1 thread: the reference particles"
 else
   bad "block steps: SIGKILL after step 20 (rc=$rc, 137 if killed mid-run; checkpoint of step $step)"
 fi
 
-# One signal inside a cycle: acknowledged at once, the cycle finished and checkpointed, exit 75.
+# Checkpoints inside the cycles (every substep here: checkpoint.every_seconds), killed when the
+# last one is inside a cycle; resumed on 1 thread.
+killed_run kill_inside checkpoint.every_seconds=1e-9 inside_cycle
+inside=$(checkpoint_attr "$dir" StepState)
+if [ $rc -eq 137 ] && [ "$inside" = 1 ] && resumed_on_one_thread "$dir"; then
+  ok "block steps: SIGKILL with checkpoints inside cycles (one inside step $((step + 1))'s cycle), resumed on 1 thread: the reference particles"
+else
+  bad "block steps: SIGKILL with checkpoints inside cycles (rc=$rc, 137 if killed mid-run; checkpoint of step $step, inside a cycle: $inside)"
+fi
+
+# One signal inside a cycle: a checkpoint inside the cycle at its next tick, exit 75.
 stopped_run one --set run.inject_interrupt_at_substep=40
 rows=$(($(wc -l < "$dir/diagnostics.csv") - 2))  # the last row's step (header, step 0)
-if [ $rc -eq 75 ] && grep -q "stop requested" "$err" && grep -q "sphdisk resume" "$err" &&
-   [ "$step" = "$rows" ]; then
-  ok "one signal inside a cycle: acknowledged, the cycle ended with a checkpoint (step $step), exit 75"
+if [ $rc -eq 75 ] && grep -q "stop requested: checkpoint written [0-9]*% into the block cycle of step $((step + 1))" "$err" &&
+   grep -q "sphdisk resume" "$err" && [ "$step" = "$rows" ] && inside_cycle "$dir"; then
+  ok "one signal inside a cycle: a checkpoint inside the cycle of step $((step + 1)), exit 75"
 else
   bad "one signal inside a cycle: rc=$rc, checkpoint of step $step, last diagnostics row $rows: $(cat "$err")"
 fi
-if resume "$dir" 3 && same_particles_as_reference "$dir"; then
-  ok "one signal inside a cycle, resumed on 3 threads: the reference particles"
+# A resume of $dir with the setting $2 must be refused in one line containing $3, the checkpoint
+# untouched ($1: what is tried).
+refused() {
+  local sum_before rc
+  sum_before=$(md5sum < "$dir/checkpoint.hdf5")
+  OMP_NUM_THREADS=1 "$sphdisk" resume "$dir" -q --set "$2" > /dev/null 2> "$work/refused.err"
+  rc=$?
+  if [ $rc -ne 0 ] && [ "$(wc -l < "$work/refused.err")" = 1 ] && grep -qF "$3" "$work/refused.err" &&
+     [ "$(md5sum < "$dir/checkpoint.hdf5")" = "$sum_before" ]; then
+    ok "a checkpoint inside a cycle resumed $1: refused in one line (rc=$rc), the checkpoint untouched"
+  else
+    bad "a checkpoint inside a cycle resumed $1: rc=$rc: $(cat "$work/refused.err")"
+  fi
+}
+refused "with respa" 'integrator.scheme="respa"' 'integrator.scheme = "block"'
+# An output halfway through the rest of the cycle.
+mid=$(/usr/bin/python3 - "$dir" << 'EOF'
+import csv, h5py, sys
+attrs = h5py.File(sys.argv[1] + "/checkpoint.hdf5")["Checkpoint"].attrs
+row = list(csv.DictReader(open(sys.argv[1] + "/diagnostics.csv")))[-1]  # the checkpoint's step
+tau_per_time = float(row["tau"]) / float(row["time"])
+print(repr(float(row["tau"]) + 0.5 * attrs["IntegratorState"][0] * tau_per_time))
+EOF
+)
+refused "with an output inside that cycle (tau $mid)" "output.tau=[0.0186, $mid, 0.0300]" "inside a block cycle that ends at tau"
+[ -n "$mpiexec" ] && cp -r "$dir" "$work/one_to_ranks"
+if resume "$dir" 3 && same_particles_as_reference "$dir" && diff -q <(diagnostics "$work/ref") <(diagnostics "$dir") > /dev/null; then
+  ok "one signal inside a cycle, resumed on 3 threads: the reference particles and diagnostics"
 else
   bad "one signal inside a cycle: resume"
 fi
@@ -103,16 +151,25 @@ else
   bad "two signals before any checkpoint: rc=$rc: $(cat "$err")"
 fi
 
-# A checkpoint written by two ranks, resumed by one process.
+# Across rank counts inside a cycle: a checkpoint written by two ranks resumed by one process, and
+# one written by one process resumed by two ranks.
 if [ -n "$mpiexec" ]; then
+  mpirun2() { "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 "$sphdisk" "$@"; }
   dir=$work/ranks
-  "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 "$sphdisk" run "$config" -q -o "$dir" \
-    "${args[@]}" --set run.inject_interrupt_at_substep=100 > /dev/null 2>&1
+  mpirun2 run "$config" -q -o "$dir" "${args[@]}" --set run.inject_interrupt_at_substep=100 > /dev/null 2>&1
   step=$(checkpoint_step "$dir")
-  if [ "$step" != none ] && resume "$dir" 2 && same_particles_as_reference "$dir"; then
-    ok "a checkpoint of 2 ranks (step $step) resumed by one process on 2 threads: the reference particles"
+  if [ "$step" != none ] && inside_cycle "$dir" && resume "$dir" 2 && same_particles_as_reference "$dir"; then
+    ok "a checkpoint of 2 ranks inside the cycle of step $((step + 1)) resumed by one process on 2 threads: the reference particles"
   else
     bad "a checkpoint of 2 ranks (step $step) resumed by one process"
+  fi
+  dir=$work/one_to_ranks
+  step=$(checkpoint_step "$dir")
+  if inside_cycle "$dir" && timeout -s KILL 120 "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 \
+       "$sphdisk" resume "$dir" -q --set run.inject_interrupt_at_substep=0 > /dev/null 2>&1 && same_particles_as_reference "$dir"; then
+    ok "a checkpoint of one process inside the cycle of step $((step + 1)) resumed by 2 ranks: the reference particles"
+  else
+    bad "a checkpoint of one process inside a cycle resumed by 2 ranks"
   fi
 fi
 
