@@ -421,9 +421,9 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
       involved_particles(p.pos, p.h, active, radius, members_);
       if (static_cast<double>(members_.size()) > kInvolvedMost * static_cast<double>(n)) return false;
       // (Not the integrator's state inside its step: no evaluation reads it.)
-      involved_.resize(members_.size(), kStepState);
-      involved_.for_each_field_with(p, [&](const FieldInfo& info, auto& to, const auto& from) {
-        if (info.flags & kStepState) return;
+      if (involved_.absent_fields() != kStepState) involved_.set_absent_fields(kStepState);
+      involved_.resize(members_.size());
+      involved_.for_each_field_with(p, [&](const FieldInfo&, auto& to, const auto& from) {
         par::for_each(members_.size(), [&](std::size_t k) { to[k] = from[members_[k]]; });
       });
     }
@@ -436,8 +436,7 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
   }
   ScopedPhase t(timers_, "neighbour_search");
   // The active particles are the first ones in both: their new values go back.
-  p.for_each_field_with(involved_, [&](const FieldInfo& info, auto& to, const auto& from) {
-    if (info.flags & kStepState) return;
+  p.for_each_field_with(involved_, [&](const FieldInfo&, auto& to, const auto& from) {
     par::for_each(active, [&](std::size_t i) { to[i] = from[i]; });
   });
   ++involved_evaluations_;

@@ -109,11 +109,13 @@ struct Particles {
     return b;
   }
 
-  // Calls f(info, field_vector) for every field in table order.
+  // Calls f(info, field_vector) for every present field (all but the absent ones, below) in table
+  // order.
   template <class F>
   void for_each_field(F&& f) {
-#define SPHDISK_VISIT_FIELD(name_, kind_, ds_, flags_, l_, m_, t_) \
-  f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_);
+#define SPHDISK_VISIT_FIELD(name_, kind_, ds_, flags_, l_, m_, t_)                                              \
+  if (!((flags_) & absent_))                                                                                 \
+    f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_);
     SPHDISK_PARTICLE_FIELDS(SPHDISK_VISIT_FIELD)
   }
   template <class F>
@@ -122,22 +124,39 @@ struct Particles {
 #undef SPHDISK_VISIT_FIELD
   }
 
-  // Calls f(info, field, other's same field) for every field in table order (copies between two
-  // sets of particles, e.g. a partial evaluation's involved particles, app/rate_evaluator.cpp).
+  // Calls f(info, field, other's same field) for every field present in both, in table order
+  // (copies between two sets of particles, e.g. a partial evaluation's involved particles,
+  // app/rate_evaluator.cpp).
   template <class F>
   void for_each_field_with(const Particles& other, F&& f) {
-#define SPHDISK_VISIT_FIELD_WITH(name_, kind_, ds_, flags_, l_, m_, t_) \
-  f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_, other.name_);
+#define SPHDISK_VISIT_FIELD_WITH(name_, kind_, ds_, flags_, l_, m_, t_)                                             \
+  if (!((flags_) & (absent_ | other.absent_)))                                                                  \
+    f(FieldInfo{#name_, FieldKind::kind_, ds_, flags_, field_length_exp(l_, FieldKind::kind_, ds_), m_, t_}, name_, \
+      other.name_);
     SPHDISK_PARTICLE_FIELDS(SPHDISK_VISIT_FIELD_WITH)
 #undef SPHDISK_VISIT_FIELD_WITH
   }
 
+  // Absent fields: those flagged with any of absent_fields(), left empty and skipped by every
+  // for_each_field, so state that only some runs use costs the others nothing (kStepState: block
+  // timesteps only, 32 bytes per particle). set_absent_fields(flags) empties the fields flagged with
+  // any of `flags` and makes the others present (sized to the particles; zero where they were
+  // absent). Copies of particles made field by field (a rank's share of a file) take the source's.
+  unsigned absent_fields() const { return absent_; }
+  void set_absent_fields(unsigned flags) {
+    const std::size_t n = size();
+    absent_ = 0;
+    for_each_field([n, flags](const FieldInfo& info, auto& v) {
+      if (info.flags & flags) std::remove_reference_t<decltype(v)>().swap(v);
+      else if (v.size() != n) v.assign(n, {});
+    });
+    absent_ = flags;
+  }
+
   // Exact when the fields are first made (initial conditions, a checkpoint read); later growth
-  // (ghosts appended) keeps a margin. Fields with any of the flags `except` are left as they are
-  // (a working copy without them: app/rate_evaluator.cpp).
-  void resize(std::size_t n, unsigned except = 0) {
-    for_each_field([n, except](const FieldInfo& info, auto& v) {
-      if (info.flags & except) return;
+  // (ghosts appended) keeps a margin.
+  void resize(std::size_t n) {
+    for_each_field([n](const FieldInfo&, auto& v) {
       if (v.capacity() == 0) v.reserve(n);
       resize_snug(v, n);
     });
@@ -164,6 +183,8 @@ struct Particles {
   }
 
  private:
+  unsigned absent_ = 0;
+
   // Density is per area in 2D, per volume in 3D.
   static constexpr int field_length_exp(int l, FieldKind, std::string_view ds) {
     return ds == std::string_view("Density") ? -D : l;

@@ -189,6 +189,7 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, cons
   FieldNames with_id = fields;
   if (!selected(fields, "id")) with_id.push_back("id");
   Particles<D> out;
+  out.set_absent_fields(p.absent_fields());
   send_in_rounds(comm, p, to, with_id, out);
   std::vector<std::uint32_t> order(out.size());
   std::iota(order.begin(), order.end(), 0u);

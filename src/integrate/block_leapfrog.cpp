@@ -77,6 +77,7 @@ class BlockLeapfrog final : public Integrator<D> {
   // Inside a cycle (between its ticks, or resumed into one and not yet continued) the particles
   // carry their steps (kStepState fields); the cycle's length and the ticks done are the rest.
   bool inside_step() const override { return now_ > 0; }
+  bool keeps_step_state() const override { return true; }
   std::vector<double> step_state() const override { return {cycle_, static_cast<double>(now_)}; }
   void resume_inside_step(const std::vector<double>& s) override {
     if (s.size() != 2 || !(s[0] > 0) || !std::isfinite(s[0]) || !(s[1] >= 1) ||

@@ -56,6 +56,8 @@ class Integrator {
   // resume_inside_step(state) makes the next step() continue the interrupted one (after which it
   // is inside_step() until it goes on). Throws UserError for an integrator without such steps.
   virtual bool inside_step() const { return false; }
+  // Whether its steps read and write the particles' kStepState fields (otherwise absent).
+  virtual bool keeps_step_state() const { return false; }
   virtual std::vector<double> step_state() const { return {}; }
   virtual void resume_inside_step(const std::vector<double>& s) {
     (void)s;
