@@ -233,7 +233,8 @@ class Runner {
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
-    p_.set_absent_fields(integrator_->keeps_step_state() ? 0u : unsigned{kStepState});
+    p_.set_absent_fields((integrator_->keeps_step_state() ? 0u : unsigned{kStepState}) |
+                         (cfg.evolve_energy ? 0u : unsigned{kEnergyStepState}));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
     if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));

@@ -27,6 +27,7 @@ enum FieldFlag : unsigned {
   kStepState = 1u << 5,   // a particle's state inside an integrator's step (block timesteps: its
                           // step's start and length, the velocity and energy after its opening
                           // kick); held by checkpoints written inside a step (io/checkpoint.hpp)
+  kEnergyStepState = 1u << 6,  // such state that only an energy equation needs (absent without one)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -58,7 +59,7 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)     \
   X(step_ticks, Ticks, "StepTicks",      kStepState,                            0,  0,  0)     \
   X(v_kick, Vector, "KickedVelocity",    kStepState,                            1,  0, -1)     \
-  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly,           2,  0, -2)
+  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)
 // clang-format on
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
@@ -139,7 +140,7 @@ struct Particles {
 
   // Absent fields: those flagged with any of absent_fields(), left empty and skipped by every
   // for_each_field, so state that only some runs use costs the others nothing (kStepState: block
-  // timesteps only, 32 bytes per particle). set_absent_fields(flags) empties the fields flagged with
+  // timesteps only, 32 bytes per particle; kEnergyStepState: 8 of them, with an energy equation only). set_absent_fields(flags) empties the fields flagged with
   // any of `flags` and makes the others present (sized to the particles; zero where they were
   // absent). Copies of particles made field by field (a rank's share of a file) take the source's.
   unsigned absent_fields() const { return absent_; }

@@ -25,7 +25,8 @@ constexpr int kDim = 2;
 // Format 4 (2026-12-03): attribute RateState; where it is 1 the kRateState fields are stored too (in
 // double precision, whatever their storage), as a block-timestep run needs them to continue.
 // Format 5 (2026-12-03): attribute StepState; where it is 1 the checkpoint was written inside a
-// block cycle, holds the kStepState fields, and IntegratorState is the cycle's state.
+// block cycle, holds the kStepState fields, and IntegratorState is the cycle's state. Attribute
+// AbsentFields: the field flags of the fields its particles did not have (Particles::absent_fields).
 constexpr long long kFormatVersion = 5;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
@@ -129,6 +130,7 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::write_attr(g, "Checksum", std::to_string(total));
     h5::write_attr(g, "RateState", s.rate_state ? 1LL : 0LL);
     h5::write_attr(g, "StepState", s.step_state ? 1LL : 0LL);
+    h5::write_attr(g, "AbsentFields", static_cast<long long>(p.absent_fields()));
     h5::Handle parts = h5::create_group(file, "Particles");
     for_each_checkpoint_field(p, s, [&](const FieldInfo& info, const auto& field, std::size_t) {
       using T = typename std::decay_t<decltype(field)>::value_type;
@@ -197,6 +199,12 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   s.config_toml = h5::read_attr_string(g, "Config", path);
   s.rate_state = out.version >= 4 && num("RateState") != 0;
   s.step_state = out.version >= 5 && num("StepState") != 0;
+  // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
+  constexpr unsigned kMayBeAbsent = kStepState | kEnergyStepState;
+  const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
+  if (!(absent >= 0 && absent <= kMayBeAbsent && absent == std::floor(absent)) ||
+      (static_cast<unsigned>(absent) & ~kMayBeAbsent) != 0)
+    throw UserError("'" + path + "': checkpoint attribute 'AbsentFields' is not valid (corrupt file?)");
   const double n_attr = num("NumParticles");
   out.checksum = h5::read_attr_string(g, "Checksum", path);
 
@@ -209,6 +217,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<2>& p = out.particles;
+  p.set_absent_fields(static_cast<unsigned>(absent));
   p.resize(rows_read);
   for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;

@@ -198,6 +198,26 @@ TEST(Checkpoint, RateAndStepStateRoundTripBitForBitWhenAskedFor) {
   EXPECT_FALSE(holds("Particles/stress"));
 }
 
+// Fields a run leaves out (Particles::absent_fields: block steps' energy state without an energy
+// equation) are neither stored nor expected, and the read particles leave them out too.
+TEST(Checkpoint, AbsentFieldsAreNeitherStoredNorExpected) {
+  Particles<2> p = sample_particles();
+  p.set_absent_fields(kEnergyStepState);
+  RunState s = sample_state();
+  s.rate_state = s.step_state = true;
+  s.integrator = {0.5, 3.0};
+  const fs::path path = temp_file("absent.h5");
+  RunState r;
+  const Particles<2> q = round_trip(p, s, path, r);
+  EXPECT_EQ(q.absent_fields(), unsigned{kEnergyStepState});
+  EXPECT_TRUE(q.u_kick.empty());
+  EXPECT_EQ(q.v_kick.size(), p.size());
+  expect_same_bits(p.pos, q.pos);
+  h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  EXPECT_FALSE(h5::exists(f, "Particles/u_kick"));
+  EXPECT_TRUE(h5::exists(f, "Particles/v_kick"));
+}
+
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   const Particles<2> p = sample_particles();
   const fs::path path = temp_file("swapped.h5");

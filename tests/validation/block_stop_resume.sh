@@ -61,7 +61,10 @@ killed_run() {
   local pid=$!
   local deadline=$((SECONDS + 300))  # (a loaded CI machine writes checkpoints slowly)
   while [ $SECONDS -lt $deadline ] && kill -0 $pid 2> /dev/null; do
+    # Looked at while the run is held (SIGSTOP), so that it is killed with the checkpoint seen.
+    kill -STOP $pid 2> /dev/null
     [ -e "$dir/checkpoint.hdf5" ] && [ "$(wc -l 2> /dev/null < "$dir/diagnostics.csv" || echo 0)" -gt 20 ] && "$3" "$dir" && break
+    kill -CONT $pid 2> /dev/null
     sleep 0.005
   done
   kill -9 $pid 2> /dev/null
