@@ -59,6 +59,14 @@ void expect_same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(T)));
 }
 
+// The state of a checkpoint written inside a block cycle (its length and the ticks done).
+RunState state_inside_a_cycle() {
+  RunState s = sample_state();
+  s.rate_state = s.step_state = true;
+  s.integrator = {0.125, 4096.0};
+  return s;
+}
+
 // p and s written to a checkpoint at path and read back (the state into r).
 Particles<2> round_trip(const Particles<2>& p, const RunState& s, const fs::path& path, RunState& r) {
   write_checkpoint(path.string(), p, s);
@@ -155,9 +163,7 @@ TEST(Checkpoint, RateAndStepStateRoundTripBitForBitWhenAskedFor) {
     p.v_kick[i] = {1.0 / (x + 3.0), -2.0 / (x + 7.0)};
     p.u_kick[i] = 5.0 / (x + 11.0);
   }
-  RunState s = sample_state();
-  s.rate_state = s.step_state = true;
-  s.integrator = {0.125, 4096.0};
+  RunState s = state_inside_a_cycle();
   const fs::path path = temp_file("rate_state.h5");
   RunState r;
   const Particles<2> q = round_trip(p, s, path, r);
@@ -203,12 +209,9 @@ TEST(Checkpoint, RateAndStepStateRoundTripBitForBitWhenAskedFor) {
 TEST(Checkpoint, AbsentFieldsAreNeitherStoredNorExpected) {
   Particles<2> p = sample_particles();
   p.set_absent_fields(kEnergyStepState);
-  RunState s = sample_state();
-  s.rate_state = s.step_state = true;
-  s.integrator = {0.5, 3.0};
   const fs::path path = temp_file("absent.h5");
   RunState r;
-  const Particles<2> q = round_trip(p, s, path, r);
+  const Particles<2> q = round_trip(p, state_inside_a_cycle(), path, r);
   EXPECT_EQ(q.absent_fields(), unsigned{kEnergyStepState});
   EXPECT_TRUE(q.u_kick.empty());
   EXPECT_EQ(q.v_kick.size(), p.size());
