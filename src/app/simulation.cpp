@@ -427,8 +427,9 @@ class Runner {
   double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
 
   // A progress line at most every output.progress_interval seconds: at the end of a step, or
-  // inside one (`within`: the fraction of the step's time done) at simulated time `time`.
-  void progress(long long step, double time, double dt, double within = -1) {
+  // inside one (`within`: the fraction of the step's time done, `in_step` the particle updates so
+  // far) at simulated time `time`.
+  void progress(long long step, double time, double dt, double within = -1, std::size_t in_step = 0) {
     const auto now = Clock::now();
     if (!root() || opts_.quiet || cfg_.progress_interval <= 0 ||
         std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
@@ -439,7 +440,7 @@ class Runner {
     if (within >= 0) std::snprintf(inside, sizeof inside, "  (%.1f%% into the step's block cycle)", 100 * within);
     std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
                  setup_.tau_of_time(time), 100 * frac, dt, advance_.particles,
-                 static_cast<double>(advance_.updates) / wall(),
+                 static_cast<double>(advance_.updates + in_step) / wall(),
                  format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
   }
 
@@ -465,7 +466,8 @@ class Runner {
                      100 * done / length, s_.step + 1);
       throw StepLeft{true};
     }
-    progress(s_.step + 1, s_.time + done, length, done / length);
+    const std::size_t in_step = updates_in_step();
+    progress(s_.step + 1, s_.time + done, length, done / length, in_step);
   }
 
   const Config& cfg_;
@@ -489,7 +491,13 @@ class Runner {
     double t_begin = 0;         // simulated time at the start of advance()
     std::size_t updates = 0;    // particles given new rates since then (all ranks)
     std::size_t particles = 0;  // at the start of the current step (all ranks)
+    std::size_t updates_at_step = 0;  // this rank's rate-evaluation count at the start of the current step
   } advance_;
+
+  // Particles given new rates since the current step began (all ranks; collective).
+  std::size_t updates_in_step() const {
+    return domain_.comm().sum(std::uint64_t{rates_.particle_updates() - advance_.updates_at_step});
+  }
 };
 
 RunSummary Runner::advance() {
@@ -520,7 +528,7 @@ RunSummary Runner::advance() {
       // back into each field (par::permute_prefix), which left the peak of a 1M run 24 MB higher.
       p_.gather(order, [](std::size_t n, const auto& f) { par::for_each(n, f, "reorder", 4096); });
     }
-    const std::size_t updates_before = rates_.particle_updates();
+    advance_.updates_at_step = rates_.particle_updates();
     advance_.particles = distributed() ? global_count() : p_.size();
     const double dt_cap = t_out_[next] - s_.time;
     const double tau_before = setup_.tau_of_time(s_.time);
@@ -531,9 +539,10 @@ RunSummary Runner::advance() {
       // Saved: the checkpoint inside the step holds it. Abandoned: the last checkpoint stays.
       interrupted = true;
       abandoned = !left.saved;
+      advance_.updates += updates_in_step();  // (work done, if not kept)
       break;
     }
-    advance_.updates += domain_.comm().sum(std::uint64_t{rates_.particle_updates() - updates_before});
+    advance_.updates += updates_in_step();
     s_.time = dt >= dt_cap ? t_out_[next] : s_.time + dt;
     ++s_.step;
     if (s_.step == cfg_.inject_nan_at_step) p_.vel[0][0] = std::numeric_limits<double>::quiet_NaN();
