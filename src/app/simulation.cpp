@@ -454,12 +454,16 @@ class Runner {
     ++substeps_;
     if (substeps_ == cfg_.inject_interrupt_at_substep)
       for (long long k = 0; k < cfg_.inject_interrupts; ++k) std::raise(SIGINT);
+    if (substeps_ == cfg_.inject_nan_at_substep && p_.size() > 0) p_.acc[0][0] = std::numeric_limits<double>::quiet_NaN();
     const double signals = domain_.comm().max(static_cast<double>(g_stop_signals));
     if (signals >= 2) throw StepLeft{false};
     const bool stop = signals >= 1;
     const bool due = cfg_.checkpoint_every_seconds > 0 &&
                      std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >= cfg_.checkpoint_every_seconds;
-    if (stop || domain_.any(due)) write_checkpoint_now();
+    if (stop || domain_.any(due)) {
+      check_finite_or_dump();  // (a checkpoint never holds non-finite values: the last good one stays)
+      write_checkpoint_now();
+    }
     if (stop) {
       if (root())
         std::fprintf(stderr, "sphdisk: stop requested: checkpoint written %.0f%% into the block cycle of step %lld\n",

@@ -173,6 +173,7 @@ const std::vector<KeyDef>& schema() {
                  "widest vector instructions of the hand-dispatched loops: auto (the CPU's widest: AVX-512, AVX2 or baseline), avx2, or baseline (SSE2); the same bits with each, only the speed differs (`sphdisk --version` names the CPU's)"),
       int_key("run.inject_nan_at_step", &Config::inject_nan_at_step, 0, (1LL << 62), "testing aid: make one velocity NaN at this step to exercise the fault handling (0: off)"),
       int_key("run.inject_interrupt_at_substep", &Config::inject_interrupt_at_substep, 0, (1LL << 62), "testing aid: raise SIGINT after this substep of the run (block cycles' ticks, counted from the run's start) to exercise stops inside a step (0: off)"),
+      int_key("run.inject_nan_at_substep", &Config::inject_nan_at_substep, 0, (1LL << 62), "testing aid: make one acceleration NaN after this substep of the run (block cycles' ticks) to exercise the fault handling inside a step (0: off)"),
       int_key("run.inject_interrupts", &Config::inject_interrupts, 1, 2, "testing aid: how many SIGINTs run.inject_interrupt_at_substep raises (2: the step is abandoned)"),
       int_key("run.max_steps", &Config::max_steps, 0, (1LL << 62), "stop after this many steps (0: no limit)"),
       float_key("run.rebalance_threshold", &Config::rebalance_threshold, in_range(1, 100), "over MPI ranks: the domains are cut anew when the largest rank's particle count over the mean passes this (1: every step)"),

@@ -58,6 +58,7 @@ struct Config {
   double rebalance_threshold = 1.05;  // MPI: re-cut the domains when largest rank / mean count passes this
   long long inject_nan_at_step = 0;  // testing aid for the fault path; 0: off
   long long inject_interrupt_at_substep = 0;  // testing aid: SIGINT inside a block cycle; 0: off
+  long long inject_nan_at_substep = 0;  // testing aid: a NaN acceleration inside a block cycle; 0: off
   long long inject_interrupts = 1;   // how many, at that substep
 
   std::string resolved_toml;       // every key = value, for outputs

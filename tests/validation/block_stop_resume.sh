@@ -161,6 +161,20 @@ else
   bad "two signals before any checkpoint: rc=$rc: $(cat "$err")"
 fi
 
+# A NaN inside a cycle where a checkpoint is due (at every substep here): no checkpoint of it, but
+# exit 3 with a debug dump; the last good checkpoint, resumed, gives the reference particles.
+dir=$work/nan
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set checkpoint.every_seconds=1e-9 \
+  --set run.inject_nan_at_substep=40 > /dev/null 2> "$work/nan.err"
+rc=$?
+if [ $rc -eq 3 ] && grep -q "non-finite acceleration" "$work/nan.err" && ls "$dir"/debug_step_*.hdf5 > /dev/null 2>&1 &&
+   OMP_NUM_THREADS=1 timeout -s KILL 120 "$sphdisk" resume "$dir" -q --set run.inject_nan_at_substep=0 > /dev/null &&
+   same_particles_as_reference "$dir"; then
+  ok "a NaN inside a cycle with a checkpoint due: exit 3, debug dump, the last good checkpoint resumed to the reference particles"
+else
+  bad "a NaN inside a cycle with a checkpoint due: rc=$rc: $(cat "$work/nan.err")"
+fi
+
 # Across rank counts inside a cycle: a checkpoint written by two ranks resumed by one process, and
 # one written by one process resumed by two ranks.
 if [ -n "$mpiexec" ]; then
