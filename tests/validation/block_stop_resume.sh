@@ -5,9 +5,10 @@
 # a cycle also carries the particles' steps in it (kStepState) and the cycle's state. A resumed run
 # must end with the particles of an uninterrupted one: after SIGKILL (checkpoints at cycle ends, or
 # inside cycles every so many seconds), after one stop signal inside a cycle (a checkpoint inside
-# it), after a second one (the cycle abandoned, the last checkpoint kept), and across rank counts
-# inside a cycle (when MPIEXEC is given). Signals inside a cycle are raised by the testing aid
-# run.inject_interrupt_at_substep, so they land at a known tick.
+# it), after a second one (the cycle abandoned, the last checkpoint kept), after a NaN inside a cycle
+# (none stored), and across rank counts inside a cycle (when MPIEXEC is given). Signals and the NaN
+# inside a cycle come from the testing aids run.inject_interrupt_at_substep and
+# run.inject_nan_at_substep, so they land at a known tick.
 # Usage: block_stop_resume.sh SPHDISK [MPIEXEC]
 set -uo pipefail
 sphdisk=$1
@@ -43,9 +44,13 @@ stopped_run() {
   rc=$?
   step=$(checkpoint_step "$dir")
 }
-# Resumes run $1 (on $2 threads) without the injected signals (a resume missing the density and
-# stress once hung: killed after two minutes).
-resume() { OMP_NUM_THREADS=$2 timeout -s KILL 120 "$sphdisk" resume "$1" -q --set run.inject_interrupt_at_substep=0 > /dev/null; }
+# Resumes run $1 (on $2 threads, with the settings after them) without the injected signals (a
+# resume missing the density and stress once hung: killed after two minutes).
+resume() {
+  local dir=$1 threads=$2
+  shift 2
+  OMP_NUM_THREADS=$threads timeout -s KILL 120 "$sphdisk" resume "$dir" -q --set run.inject_interrupt_at_substep=0 "$@" > /dev/null
+}
 
 # Progress lines from inside the cycles (a line at every substep here).
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -o "$work/progress" "${args[@]}" --set output.progress_interval=1e-9 \
@@ -78,7 +83,7 @@ killed_run() {
   rc=$?
   step=$(checkpoint_step "$dir")
 }
-resumed_on_one_thread() { OMP_NUM_THREADS=1 timeout -s KILL 120 "$sphdisk" resume "$1" -q > /dev/null && same_particles_as_reference "$1"; }
+resumed_on_one_thread() { resume "$1" 1 && same_particles_as_reference "$1"; }
 
 # Checkpoints every 3 cycles; resumed on 1 thread.
 killed_run kill checkpoint.every_steps=3 true
@@ -146,7 +151,7 @@ if [ $rc -eq 75 ] && grep -q "not saved; continue from the checkpoint of step $s
 else
   bad "two signals inside a cycle: rc=$rc, checkpoint of step $step: $(cat "$err")"
 fi
-if resume "$dir" 1 && same_particles_as_reference "$dir"; then
+if resumed_on_one_thread "$dir"; then
   ok "two signals inside a cycle, resumed on 1 thread: the reference particles"
 else
   bad "two signals inside a cycle: resume"
@@ -168,8 +173,7 @@ OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$dir" "${args[@]}" --set check
   --set run.inject_nan_at_substep=40 > /dev/null 2> "$work/nan.err"
 rc=$?
 if [ $rc -eq 3 ] && grep -q "non-finite acceleration" "$work/nan.err" && ls "$dir"/debug_step_*.hdf5 > /dev/null 2>&1 &&
-   OMP_NUM_THREADS=1 timeout -s KILL 120 "$sphdisk" resume "$dir" -q --set run.inject_nan_at_substep=0 > /dev/null &&
-   same_particles_as_reference "$dir"; then
+   resume "$dir" 1 --set run.inject_nan_at_substep=0 && same_particles_as_reference "$dir"; then
   ok "a NaN inside a cycle with a checkpoint due: exit 3, debug dump, the last good checkpoint resumed to the reference particles"
 else
   bad "a NaN inside a cycle with a checkpoint due: rc=$rc: $(cat "$work/nan.err")"
