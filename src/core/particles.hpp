@@ -140,9 +140,10 @@ struct Particles {
 
   // Absent fields: those flagged with any of absent_fields(), left empty and skipped by every
   // for_each_field, so state that only some runs use costs the others nothing (kStepState: block
-  // timesteps only, 32 bytes per particle; kEnergyStepState: 8 of them, with an energy equation only). set_absent_fields(flags) empties the fields flagged with
-  // any of `flags` and makes the others present (sized to the particles; zero where they were
-  // absent). Copies of particles made field by field (a rank's share of a file) take the source's.
+  // timesteps only, 32 bytes per particle; kEnergyStepState: 8 of them, with an energy equation
+  // only). set_absent_fields(flags) empties the fields flagged with any of `flags` and makes the
+  // others present (sized to the particles; zero where they were absent). Copies of particles made
+  // field by field (a rank's share of a file) take the source's.
   unsigned absent_fields() const { return absent_; }
   void set_absent_fields(unsigned flags) {
     const std::size_t n = size();

@@ -42,7 +42,6 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-
 #include "integrate/integrator.hpp"
 #include "integrate/orbit_drift.hpp"
 

@@ -2,9 +2,11 @@
 // Checkpoints: everything needed to continue a run bit-for-bit, in one HDF5 file (portable across
 // machines, thread and rank counts). Particles are stored in memory order (in ID order from a
 // distributed run) with every field flagged kCheckpoint (and kRateState where RunState::rate_state
-// asks for them: block timesteps; and kStepState where it was written inside a block cycle); the run state (time, step, next output, accretion tallies,
-// integrator state) and the resolved configuration are attributes. A 64-bit checksum over all of it detects corruption; it is a
-// sum over rows (format 2), so ranks writing or reading their own rows can add theirs up.
+// asks for them: block timesteps; and kStepState where it was written inside a block cycle), but
+// none its particles lacked (Particles::absent_fields); the run state (time, step, next output,
+// accretion tallies, integrator state) and the resolved configuration are attributes. A 64-bit
+// checksum over all of it detects corruption; it is a sum over rows (format 2), so ranks writing
+// or reading their own rows can add theirs up.
 // Written atomically (temporary file, fsync, rename): the previous checkpoint stays intact until
 // the new one is complete.
 #include <string>
