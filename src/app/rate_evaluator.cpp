@@ -420,8 +420,10 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
       ScopedPhase t(timers_, "neighbour_search");
       involved_particles(p.pos, p.h, active, radius, members_);
       if (static_cast<double>(members_.size()) > kInvolvedMost * static_cast<double>(n)) return false;
-      // (Not the integrator's state inside its step: no evaluation reads it.)
-      if (involved_.absent_fields() != kStepState) involved_.set_absent_fields(kStepState);
+      // (Not the integrator's state inside its step: no evaluation reads it; nor the fields the run
+      // does not use.)
+      const unsigned absent = p.absent_fields() | kStepState;
+      if (involved_.absent_fields() != absent) involved_.set_absent_fields(absent);
       involved_.resize(members_.size());
       involved_.for_each_field_with(p, [&](const FieldInfo&, auto& to, const auto& from) {
         par::for_each(members_.size(), [&](std::size_t k) { to[k] = from[members_[k]]; });
@@ -556,10 +558,13 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
     density(pairs);
   }
   refresh_ghosts(p, GhostStage::Density);
+  // The force correction's heating loop runs between the gradient and force loops, where the
+  // particles hold an energy rate (an energy equation: core/particles.hpp).
+  const bool corrected_heating = phys_.force_correction && !p.du_dt.empty();
   // Pairs searched anew are searched once for the gradient and force loops together, unless ghosts'
-  // stresses must be fetched between the two or the force correction's heating loop lies between.
+  // stresses must be fetched between the two or the corrected heating's loop lies between.
   if constexpr (JoinsLoops<Pairs>) {
-    if (!domain_ && !phys_.force_correction) {
+    if (!domain_ && !corrected_heating) {
       ScopedPhase t(timers_, "gradient_and_forces");
       compute_stress_and_accelerations(p, pairs, phys_, gradient_sums_, force_scratch_, gravity_);
       if (lean()) release_memory(gradient_sums_);
@@ -572,7 +577,7 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
     if (lean()) release_memory(gradient_sums_);
   }
   refresh_ghosts(p, GhostStage::Stress);
-  if (phys_.force_correction) {
+  if (corrected_heating) {
     ScopedPhase t(timers_, "velocity_gradient");
     add_force_corrected_heating(p, pairs, heating_scratch_);
   }

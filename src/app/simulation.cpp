@@ -109,7 +109,7 @@ std::string find_non_finite(const Particles<D>& p, long long step) {
   const std::size_t bad = par::reduce(
       p.size(), p.size(),
       [&](std::size_t i) {
-        bool ok = std::isfinite(p.u[i]);
+        bool ok = p.u.empty() || std::isfinite(p.u[i]);  // (no internal energy without an energy equation)
         for (int k = 0; k < D; ++k) ok = ok && std::isfinite(p.pos[i][k]) && std::isfinite(p.vel[i][k]) && std::isfinite(p.acc[i][k]);
         return ok ? p.size() : i;
       },
@@ -233,8 +233,7 @@ class Runner {
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
-    p_.set_absent_fields((integrator_->keeps_step_state() ? 0u : unsigned{kStepState}) |
-                         (cfg.evolve_energy ? 0u : unsigned{kEnergyStepState}));
+    p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, cfg.force_correction));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
     if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));

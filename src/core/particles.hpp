@@ -27,7 +27,10 @@ enum FieldFlag : unsigned {
   kStepState = 1u << 5,   // a particle's state inside an integrator's step (block timesteps: its
                           // step's start and length, the velocity and energy after its opening
                           // kick); held by checkpoints written inside a step (io/checkpoint.hpp)
-  kEnergyStepState = 1u << 6,  // such state that only an energy equation needs (absent without one)
+  kEnergyStepState = 1u << 6,  // such state that only an energy equation needs (absent without one;
+                               // since kEnergyOnly fields are absent then too, kept for the
+                               // checkpoints of format 5, whose AbsentFields name it)
+  kForceCorrectionOnly = 1u << 7,  // read and written only with the force correction (sph.force_correction)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -52,7 +55,7 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(rho,   Scalar, "Density",            kSnapshot | kReduced | kRateState,    -2,  1,  0)     \
   X(volume, Scalar, "Volume",            kRateState,                            2,  0,  0)     \
   X(stress, Tensor, "KinematicStress",   kReduced | kRateState,                 2,  0, -1)     \
-  X(correction, Tensor, "MomentCorrection", kReduced | kRateState,               0,  0,  0)     \
+  X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly, 0, 0, 0) \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
@@ -71,6 +74,14 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 // ranks) and a checkpoint written inside a block cycle can hold them.
 // Density is the surface density in 2D (mass / length^2); in 3D its length exponent is -3 (see
 // field_length_exponent below).
+
+// The fields a run does not use, to be made absent (Particles::set_absent_fields): the block
+// integrator's state inside a step without block timesteps, the energy equation's fields without
+// one, the moment correction without the force correction.
+constexpr unsigned unused_fields(bool step_state, bool energy, bool force_correction) {
+  return (step_state ? 0u : unsigned{kStepState}) | (energy ? 0u : unsigned{kEnergyOnly | kEnergyStepState}) |
+         (force_correction ? 0u : unsigned{kForceCorrectionOnly});
+}
 
 template <int D>
 struct FieldTypes {
@@ -140,8 +151,10 @@ struct Particles {
 
   // Absent fields: those flagged with any of absent_fields(), left empty and skipped by every
   // for_each_field, so state that only some runs use costs the others nothing (kStepState: block
-  // timesteps only, 32 bytes per particle; kEnergyStepState: 8 of them, with an energy equation
-  // only). set_absent_fields(flags) empties the fields flagged with any of `flags` and makes the
+  // timesteps only, 32 bytes per particle; kEnergyOnly: u, du_dt and u_kick, 16-24 bytes, with an
+  // energy equation only; kForceCorrectionOnly: the moment correction, 32 bytes, with the force
+  // correction only; a run's choice: unused_fields below). Physics that may
+  // write an absent field tests for it (the viscous heating: du_dt). set_absent_fields(flags) empties the fields flagged with any of `flags` and makes the
   // others present (sized to the particles; zero where they were absent). Copies of particles made
   // field by field (a rank's share of a file) take the source's.
   unsigned absent_fields() const { return absent_; }

@@ -43,7 +43,7 @@ class Leapfrog final : public Integrator<D> {
     const bool energy = phys.evolve_energy;
     const std::size_t n = p.size();
     v_half_.resize(n);
-    u_half_.resize(n);
+    u_half_.resize(energy ? n : 0);
     {
     ScopedPhase timer(rates_.timers(), "integration");
     par::for_each(n, [&](std::size_t i) {

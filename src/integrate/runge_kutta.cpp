@@ -124,7 +124,7 @@ class EmbeddedRungeKutta final : public Integrator<D> {
     ScopedPhase timer(rates_.timers(), "integration");
     par::for_each(p.size(), [&](std::size_t i) {
       Vec<D> x = x0_[i], v = v0_[i];
-      double u = u0_[i];
+      double u = energy ? u0_[i] : 0.0;  // (no internal energy without an energy equation)
       for (std::size_t l = 0; l < nstages; ++l) {
         if (w[l] == 0.0) continue;
         x += k_[l].dx[i] * (dt * w[l]);
@@ -133,7 +133,7 @@ class EmbeddedRungeKutta final : public Integrator<D> {
       }
       p.pos[i] = x;
       p.vel[i] = v;
-      p.u[i] = u;
+      if (energy) p.u[i] = u;
     }, "integration");
   }
 

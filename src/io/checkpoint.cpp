@@ -27,7 +27,9 @@ constexpr int kDim = 2;
 // Format 5 (2026-12-03): attribute StepState; where it is 1 the checkpoint was written inside a
 // block cycle, holds the kStepState fields, and IntegratorState is the cycle's state. Attribute
 // AbsentFields: the field flags of the fields its particles did not have (Particles::absent_fields).
-constexpr long long kFormatVersion = 5;
+// Format 6 (2026-12-04): the fields a run does not use may be absent too (kEnergyOnly without an
+// energy equation, kForceCorrectionOnly without the force correction: core/particles.hpp).
+constexpr long long kFormatVersion = 6;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
@@ -200,7 +202,8 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   s.rate_state = out.version >= 4 && num("RateState") != 0;
   s.step_state = out.version >= 5 && num("StepState") != 0;
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
-  constexpr unsigned kMayBeAbsent = kStepState | kEnergyStepState;
+  const unsigned kMayBeAbsent =
+      kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u);
   const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
   if (!(absent >= 0 && absent <= kMayBeAbsent && absent == std::floor(absent)) ||
       (static_cast<unsigned>(absent) & ~kMayBeAbsent) != 0)

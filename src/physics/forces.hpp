@@ -8,7 +8,7 @@
 // Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
 // Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
-// Writes: acc, du_dt.
+// Writes: acc, du_dt (the pressure work, where the particles hold it: with an energy equation).
 #include <cmath>
 #include <vector>
 
@@ -55,7 +55,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
-                          inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.data(), m, with_pressure,
+                          inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
                           phys.force_correction};
 }
 
@@ -68,7 +68,7 @@ auto force_list_body(Particles<D>& p, const ForceListData<D>& d) {
     add_force_list(d, i, js, std::span<const float>(F), ai, du_i);  // list_sums.hpp
     if (i < d.writable) {
       p.acc[i] += ai;
-      p.du_dt[i] += du_i;
+      if (d.du_dt) p.du_dt[i] += du_i;
     }
   };
 }

@@ -83,7 +83,9 @@ template <int D>
 }
 
 // What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.
-// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction.
+// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction;
+// du_dt: null where the particles hold no energy rate (no energy equation: the pressure work is
+// not kept).
 template <int D>
 struct ForceListData {
   const Vec<D>* pos;
@@ -122,7 +124,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       f -= g * (Pr_i + d.p_over_rho2[j]);
       const double work = dot(vi - d.vel[j], g);
       du_i += Pr_i * mj * work;
-      if (j < d.writable) d.du_dt[j] += d.p_over_rho2[j] * mi * work;
+      if (j < d.writable && d.du_dt) d.du_dt[j] += d.p_over_rho2[j] * mi * work;
     }
     ai += f * mj;
     if (j < d.writable) d.acc[j] -= f * mi;

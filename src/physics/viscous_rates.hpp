@@ -3,7 +3,7 @@
 // pairs, for pair forms that join two loops (Pairs::for_each_list_joined, pair_scan.hpp: pairs
 // searched anew are then searched once for both loops): the same terms in the same order, so the
 // same bits, as compute_viscous_stress followed by compute_accelerations. Not with the force
-// correction, whose heating loop must run between the two.
+// correction's heating (with an energy equation), whose loop must run between the two.
 #include <vector>
 
 #include "core/particles.hpp"

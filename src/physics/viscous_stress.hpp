@@ -8,7 +8,8 @@
 // Viscous heating du_i/dt = S_i : V_i (physics.md sec. 2: sigma:V, not sigma:sigma/2) makes the
 // kinetic + internal energy exactly conserved together with the force of forces.hpp.
 // Pair sums visit each pair once (pair_lists.hpp).
-// Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part).
+// Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part, where the particles
+// hold it: with an energy equation).
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/pair_lists.hpp"
@@ -136,10 +137,11 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
   // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
   // so that kinetic + internal energy stay exactly conserved.
   const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys));
+  const bool heating = !p.du_dt.empty();  // absent without an energy equation (core/particles.hpp)
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));
-    p.du_dt[i] = 0.5 * double_dot(S, g.V * C);  // C symmetric: V C_i^T = V C_i
-  } else {
+    if (heating) p.du_dt[i] = 0.5 * double_dot(S, g.V * C);  // C symmetric: V C_i^T = V C_i
+  } else if (heating) {
     // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
     // energy stay exactly conserved whichever gradient sets the stress.
     p.du_dt[i] = double_dot(S, g.V);
@@ -156,6 +158,7 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
 
 // The second half of the heating with the force correction; reads every neighbour's p.correction,
 // so it runs after compute_viscous_stress has set them all (and the ghosts' have been refreshed).
+// Not needed where the particles hold no energy rate (no energy equation: du_dt absent).
 // H: scratch.
 template <int D, class Pairs>
 void add_force_corrected_heating(Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {

@@ -221,6 +221,34 @@ TEST(Checkpoint, AbsentFieldsAreNeitherStoredNorExpected) {
   EXPECT_TRUE(h5::exists(f, "Particles/v_kick"));
 }
 
+// The ring's run (no energy equation, no force correction, block steps) leaves out u, du_dt, u_kick
+// and the moment correction (core/particles.hpp, unused_fields): its checkpoints neither store nor
+// expect them, and an earlier format, which always had them, may not claim them absent.
+TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
+  Particles<2> p = sample_particles();
+  p.set_absent_fields(unused_fields(true, false, false));
+  const fs::path path = temp_file("unused.h5");
+  RunState r;
+  const Particles<2> q = round_trip(p, state_inside_a_cycle(), path, r);  // (with the rate state: stress, correction)
+  EXPECT_EQ(q.absent_fields(), p.absent_fields());
+  EXPECT_TRUE(q.u.empty() && q.du_dt.empty() && q.u_kick.empty() && q.correction.empty());
+  expect_same_bits(p.stress, q.stress);
+  expect_same_bits(p.v_kick, q.v_kick);
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    for (const char* name : {"Particles/u", "Particles/du_dt", "Particles/u_kick", "Particles/correction"})
+      EXPECT_FALSE(h5::exists(f, name)) << name;
+    EXPECT_TRUE(h5::exists(f, "Particles/stress"));
+  }
+  set_attrs(path, 5, std::to_string(0));
+  try {
+    read_checkpoint(path.string(), r);
+    ADD_FAILURE() << "a format-5 checkpoint without u was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   const Particles<2> p = sample_particles();
   const fs::path path = temp_file("swapped.h5");

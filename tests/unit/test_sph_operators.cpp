@@ -192,6 +192,43 @@ TEST(Conservation, MomentumAndEnergyExactOnRandomSets) {
   }
 }
 
+// Without an energy equation the particles hold no u and du_dt, and without the force correction no
+// moment correction (core/particles.hpp, unused_fields): the rates of such lean particles must be
+// those of particles holding every field, bit for bit, with and without pressure and force
+// correction, with stored pairs and with pairs searched anew (whose gradient and force loops are
+// then joined even with the force correction: no heating loop lies between them).
+TEST(Conservation, FieldsARunDoesNotUseChangeNoRate) {
+  for (bool force_correction : {false, true})
+    for (bool pressure : {false, true})
+      for (PairStorage storage : {PairStorage::Stored, PairStorage::Rescan}) {
+        Particles<2> full = test::random_particles<2>(2000, 5, true);
+        for (auto& x : full.pos) x += Vec<2>{{2.0, 2.0}};
+        Particles<2> lean = full;
+        lean.set_absent_fields(unused_fields(false, false, force_correction));
+        PhysicsParams phys = viscous(0.01, 0.003);
+        phys.gm = 0.0;
+        phys.eos = pressure ? EquationOfState::Isothermal : EquationOfState::None;
+        phys.sound_speed = 0.3;
+        phys.force_correction = force_correction;
+        for (Particles<2>* p : {&full, &lean}) {
+          PhaseTimers timers;
+          RateEvaluator<2> rates(KernelType::WendlandC2, 0.02, phys, timers);
+          rates.set_pair_storage(storage);
+          rates.evaluate(*p);
+        }
+        SCOPED_TRACE(std::string("force correction ") + (force_correction ? "on" : "off") + ", pressure " +
+                     (pressure ? "on" : "off") + (storage == PairStorage::Rescan ? ", rescan" : ", stored"));
+        EXPECT_TRUE(lean.u.empty() && lean.du_dt.empty());
+        EXPECT_EQ(lean.correction.empty(), !force_correction);
+        ASSERT_EQ(lean.size(), full.size());
+        for (std::size_t i = 0; i < full.size(); ++i) {
+          ASSERT_EQ(lean.rho[i], full.rho[i]) << i;
+          ASSERT_EQ(lean.acc[i], full.acc[i]) << i;
+          for (std::size_t c = 0; c < 4; ++c) ASSERT_EQ(lean.stress[i].c[c], full.stress[i].c[c]) << i;
+        }
+      }
+}
+
 // The moment-corrected pair gradient (sph.force_correction) makes eq. 6's divergence exact to first
 // order where the plain kernel gradient carries the lattice moment: at h = 1.3 dx the shear-flow
 // force v_x = a y^2 -> (2 a nu, 0) is ~1-2% off with the plain gradient, and must come out closer.
