@@ -512,10 +512,20 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
         else build_cell_grid(p.pos, p.id, 0.5 * listed, grid_);
       }
     }
+    const KernelAt<K, D> kern(h_);
+    // Lists searched anew, with nothing between the search and the density loop: the search runs on
+    // the pair loops' schedule and sums the density on its way (tile_half_lists.hpp; the same bits).
+    const bool summed_in_search = !rescan && !reusable && density_in_search_;
     if (!keep) {
-      ScopedPhase t(timers_, "neighbour_search");
+      ScopedPhase t(timers_, summed_in_search ? "search_and_density" : "neighbour_search");
       if (rescan) {
         scan_order(p.pos, active);
+      } else if (summed_in_search) {
+        build_tile_order(grid_, tile_cells(), active, pairs_lists_);
+        ConstantHDensity<K, D> sums(p, kern, pairs_lists_.writable);
+        build_half_lists_on_tiles(grid_, p.pos, listed, pairs_lists_, tile_factors_, density_while_searching(sums));
+        sums.finish();
+        lists_built(p, false);
       } else {
         // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
@@ -526,9 +536,11 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
         lists_built(p, reusable);
       }
     }
-    const KernelAt<K, D> kern(h_);
     const auto density = [&](const auto& pairs) { compute_density(p, pairs, kern); };
-    if (rescan) {
+    if (summed_in_search) {
+      pair_loops(p, TiledPairs{pairs_lists_, tile_factors_}, [](const auto&) {});  // (the density came with the lists)
+      pair_count = pairs_lists_.total();
+    } else if (rescan) {
       const auto form = [kern](std::uint32_t, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
         for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(kern.dW_over_r(std::sqrt(r2[q])));
       };
@@ -610,7 +622,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
           {"involved_particles", involved_.bytes() + members_.capacity() * sizeof(std::uint32_t)},
           {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
-          {"pair_factors", factors_.capacity() * sizeof(float)},
+          {"pair_factors", factors_.capacity() * sizeof(float) + tile_factors_.bytes()},
           {"kernel_slopes", slopes_.capacity() * sizeof(KernelSlope)},
           {"cell_grid", grid_.bytes()},
           {"per_particle_scratch", scratch}};

@@ -18,6 +18,7 @@
 #include "neighbours/list_reuse.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
+#include "neighbours/tile_half_lists.hpp"
 #include "physics/density.hpp"
 #include "physics/kernels.hpp"
 #include "physics/pair_factors.hpp"
@@ -112,7 +113,13 @@ class RateEvaluator {
   const NeighbourLists& neighbours() const { return candidates_; }
   // Each interacting pair once (pair_lists.hpp), as the pair loops of the last evaluation read them.
   const PairLists& pair_lists() const { return *loop_lists_; }
-  const PairFactors& pair_factors() const { return factors_; }  // indexed by pair_lists' pairs
+  // Indexed by pair_lists' pairs; empty where the lists hold their factors per tile (the density
+  // summed during the search, below).
+  const PairFactors& pair_factors() const { return factors_; }
+  // With one smoothing length and stored lists built afresh, the search runs on the pair loops'
+  // schedule and sums the density on its way (neighbours/tile_half_lists.hpp; on by default). Off:
+  // a separate density loop over the stored lists, with the same bits (a reference for the tests).
+  void set_density_in_search(bool on) { density_in_search_ = on; }
   // Eq. 8's velocity gradient and the moment matrix of the particles given new rates (viscous_stress.hpp);
   // empty after a lean() evaluation.
   const GradientSumsArray<D>& gradient_sums() const { return gradient_sums_; }
@@ -181,6 +188,8 @@ class RateEvaluator {
   CandidateFilter writable_filter_;  // Rescan: where the writable particles are (candidate_filter.hpp)
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
+  TileFactors tile_factors_;  // or per tile, where the density is summed during the search
+  bool density_in_search_ = true;
   GradientSumsArray<D> gradient_sums_;
   std::vector<Mat<D>> heating_scratch_;
   ForceScratch force_scratch_;

@@ -205,6 +205,7 @@ void NeighbourLists::offsets_from_blocks(std::size_t n) {
   }, {}, 1);
   joined = false;
   within = nullptr;
+  tiled = false;
 }
 
 void NeighbourLists::join() {
@@ -213,7 +214,7 @@ void NeighbourLists::join() {
   renew_snug(index, total());
   par::for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
     const std::size_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
-    if (within) {
+    if (within || tiled) {
       for (std::size_t i = i0; i < i1; ++i) std::copy_n(list(i).data(), count(i), index.data() + offsets[i]);
     } else {
       std::copy_n(block_index[b].data(), offsets[i1] - offsets[i0], index.data() + offsets[i0]);

@@ -37,9 +37,12 @@ struct NeighbourLists {
   // pair_lists.cpp). within is null where the lists are held here.
   const NeighbourLists* within = nullptr;
   std::vector<const std::uint32_t*> start;
+  // Or they lie in block buffers of any size, one per tile of a pair schedule (tile_half_lists.hpp),
+  // list i at start[i] as with `within`; not joined.
+  bool tiled = false;
 
   std::span<const std::uint32_t> list(std::size_t i) const {
-    if (within) return {start[i], count(i)};
+    if (within || tiled) return {start[i], count(i)};
     if (joined) return {index.data() + offsets[i], count(i)};
     const std::size_t b = i / kBlock;
     return {block_index[b].data() + (offsets[i] - offsets[b * kBlock]), count(i)};
@@ -58,10 +61,17 @@ struct NeighbourLists {
   void held_joined() {  // the lists are (being) written into index
     joined = true;
     within = nullptr;
+    tiled = false;
   }
   void view_inside(const NeighbourLists& lists) {  // offsets and start set
     joined = false;
     within = &lists;
+    tiled = false;
+  }
+  void held_in_tiles() {  // offsets and start set
+    joined = false;
+    within = nullptr;
+    tiled = true;
   }
 
   std::size_t bytes() const;  // memory held (capacities, builder scratch included)

@@ -4,7 +4,8 @@
 // In 2D rho is the surface density Sigma.
 // With one global h the sum is a pair loop: each pair is visited once (pair_lists.hpp), its
 // distance, both kernel values and its kernel-gradient factor dW(r, h)/dr / r (pair_factors.hpp) are
-// computed once and serve both particles. With variable h the smoothing-length solve has summed rho
+// computed once and serve both particles; where the lists are searched on the loops' schedule
+// (neighbours/tile_half_lists.hpp) the search sums it on its way. With variable h the smoothing-length solve has summed rho
 // already (smoothing_length.hpp), and the factors, the pair average of dW(r, h_i)/dr / r and
 // dW(r, h_j)/dr / r (symmetric in i <-> j as momentum conservation needs), are formed by the first
 // pair loop that reads them.
@@ -35,47 +36,85 @@ void set_volumes(Particles<D>& p, std::size_t writable) {
   par::for_each(writable, [&](std::size_t i) { p.volume[i] = p.mass[i] / p.rho[i]; }, "density");
 }
 
-// One global smoothing length: W(r, h) and the factor serve both particles of a pair.
-// pairs: StoredPairs (pair_lists.hpp) or ScannedPairs (pair_scan.hpp).
+// One global smoothing length: W(r, h) and the factor serve both particles of a pair. The sums of
+// an evaluation, list by list: the self terms on construction, each half list's terms by add_list
+// (i's own sum over the list in list order, then added to rho_i; each writable partner's term added
+// to its rho as the pair comes), rho stored and the volumes set by finish. The lists come from a
+// pair loop (compute_density) or from the search itself (density_while_searching).
+template <class K, int D>
+class ConstantHDensity {
+ public:
+  ConstantHDensity(Particles<D>& p, const KernelAt<K, D>& kern, std::size_t writable) : p_(p), kern_(kern), m_(writable) {
+    const double self_W = kern.W(0.0);
+    double* rho = sums();
+    par::for_each(m_, [&](std::size_t i) { rho[i] = p_.mass[i] * self_W; }, "density");
+  }
+  const KernelAt<K, D>& kernel() const { return kern_; }
+  // The terms of i's half list js, w[q] = W(|x_i - x_js[q]|, h).
+  void add_list(std::uint32_t i, std::span<const std::uint32_t> js, const double* w) const {
+    double* rho = sums();
+    const double mi = p_.mass[i];
+    double rho_i = 0.0;
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      rho_i += p_.mass[j] * w[q];
+      if (j < m_) rho[j] += mi * w[q];
+    }
+    if (i < m_) rho[i] += rho_i;
+  }
+  void finish() {
+    if constexpr (!kDoubleRho) par::for_each(m_, [&](std::size_t i) { store(p_.rho[i], wide_[i]); }, "density");
+    set_volumes(p_, m_);
+  }
+
+ private:
+  // The sums in double: p.rho itself, or, where it is stored in single precision, a double copy
+  // stored by finish.
+  static constexpr bool kDoubleRho = std::is_same_v<decltype(Particles<D>::rho), std::vector<double>>;
+  double* sums() const {
+    if constexpr (kDoubleRho) {
+      return p_.rho.data();
+    } else {
+      if (wide_.size() != p_.size()) wide_.resize(p_.size());
+      return wide_.data();
+    }
+  }
+
+  Particles<D>& p_;
+  const KernelAt<K, D> kern_;  // by value: stores to rho cannot alias it (it would be reloaded after each)
+  std::size_t m_;
+  mutable std::vector<double> wide_;
+};
+
+// pairs: StoredPairs (pair_lists.hpp), ScannedPairs (pair_scan.hpp) or TiledPairs (tile_half_lists.hpp).
 template <class K, int D, class Pairs>
 void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& kern) {
   pairs.prepare_factors();
-  const std::size_t m = pairs.writable();
-  const double self_W = kern.W(0.0);
-  // The sums in double: p.rho itself, or, where it is stored in single precision, a double copy
-  // stored at the end.
-  std::vector<double> wide;
-  std::vector<double>& rho = [&]() -> std::vector<double>& {
-    if constexpr (std::is_same_v<decltype(p.rho), std::vector<double>>) {
-      return p.rho;
-    } else {
-      wide.resize(p.size());
-      return wide;
-    }
-  }();
-  par::for_each(m, [&](std::size_t i) { rho[i] = p.mass[i] * self_W; }, "density");
+  ConstantHDensity<K, D> sums(p, kern, pairs.writable());
   pairs.for_each_list([&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
-    // The kernel by value: read through a reference it would be reloaded after every store to rho,
-    // which may alias it.
-    const KernelAt<K, D> k = kern;
-    const double mi = p.mass[i];
     // The kernel values and factors of the list (list_factors.hpp: squared distances first, then
     // square roots and kernels on contiguous data, eight partners at a time where the CPU allows),
     // then the sums in list order.
     thread_local std::vector<double> w_buffer;
     double* w = scratch_for(w_buffer, js.size() + 8);
-    constant_h_list<K>(p.pos.data(), k, i, js, w, factors);
-    double rho_i = 0.0;
-    for (std::size_t q = 0; q < js.size(); ++q) {
-      const std::uint32_t j = js[q];
-      rho_i += p.mass[j] * w[q];
-      if (j < m) rho[j] += mi * w[q];
-    }
-    if (i < m) rho[i] += rho_i;
+    constant_h_list<K>(p.pos.data(), sums.kernel(), i, js, w, factors);
+    sums.add_list(i, js, w);
   }, FactorUse::Write, "density");
-  if constexpr (!std::is_same_v<decltype(p.rho), std::vector<double>>)
-    par::for_each(m, [&](std::size_t i) { store(p.rho[i], rho[i]); }, "density");
-  set_volumes(p, m);
+  sums.finish();
+}
+
+// The same sums during the search (neighbours/tile_half_lists.hpp: its visit): each list's kernel
+// values and factors from the squared distances the search found, the same values as
+// constant_h_list's (which forms the same squared distances), so the same bits as compute_density
+// on the same lists.
+template <class K, int D>
+auto density_while_searching(ConstantHDensity<K, D>& sums) {
+  return [&sums](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const double> d2, std::span<float> factors) {
+    thread_local std::vector<double> w_buffer;
+    double* w = scratch_for(w_buffer, js.size());
+    kernels_at_distances<K>(sums.kernel(), d2.data(), js.size(), w, factors.data());
+    sums.add_list(i, js, w);
+  };
 }
 
 // Each particle's kernel slope at its smoothing length p.h.

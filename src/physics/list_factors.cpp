@@ -98,6 +98,18 @@ template <class K>
 }
 
 template <class K>
+[[gnu::target("avx512f,avx512vl")]] void kernels_avx512(const KernelAt<K, 2>& kern, const double* r2, std::size_t n,
+                                                        double* w, float* factors) {
+  constant_h_kernels(kern, r2, n, w, factors);
+}
+
+template <class K>
+[[gnu::target("avx2")]] void kernels_avx2(const KernelAt<K, 2>& kern, const double* r2, std::size_t n, double* w,
+                                          float* factors) {
+  constant_h_kernels(kern, r2, n, w, factors);
+}
+
+template <class K>
 [[gnu::target("avx512f,avx512vl")]] void factors_from_h_avx512(double h_i, const double* h, std::span<const std::uint32_t> js,
                                                                const double* r2, std::span<float> factors) {
   factors_from_h_scalar<K, 2>(h_i, h, js, r2, factors);
@@ -140,6 +152,18 @@ void factors_from_h_2d(double h_i, const double* h, std::span<const std::uint32_
   factors_from_h_scalar<K, 2>(h_i, h, js, r2, factors);
 }
 
+template <class K>
+void kernels_at_distances(const KernelAt<K, 2>& kern, const double* r2, std::size_t n, double* w, float* factors) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  switch (vector_isa()) {
+    case VectorIsa::avx512: return kernels_avx512<K>(kern, r2, n, w, factors);
+    case VectorIsa::avx2: return kernels_avx2<K>(kern, r2, n, w, factors);
+    case VectorIsa::baseline: break;
+  }
+#endif
+  constant_h_kernels(kern, r2, n, w, factors);
+}
+
 // The same for one global h.
 template <class K>
 void constant_h_list(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
@@ -171,5 +195,9 @@ template void constant_h_list<WendlandC4>(const Vec<2>*, const KernelAt<Wendland
 template void factors_from_h_2d<CubicSpline>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
 template void factors_from_h_2d<WendlandC2>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
 template void factors_from_h_2d<WendlandC4>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
+
+template void kernels_at_distances<CubicSpline>(const KernelAt<CubicSpline, 2>&, const double*, std::size_t, double*, float*);
+template void kernels_at_distances<WendlandC2>(const KernelAt<WendlandC2, 2>&, const double*, std::size_t, double*, float*);
+template void kernels_at_distances<WendlandC4>(const KernelAt<WendlandC4, 2>&, const double*, std::size_t, double*, float*);
 
 }  // namespace sphdisk

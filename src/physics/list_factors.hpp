@@ -108,6 +108,17 @@ template <class K>
 void constant_h_list(const Vec<2>* pos, const KernelAt<K, 2>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
                      double* w, std::span<float> factors);
 
+// The same kernel values and factors of n pairs at known squared distances r2[q] (the density summed
+// during the search, neighbours/tile_half_lists.hpp): constant_h_kernels, in 2D compiled eight-wide
+// (AVX-512) or four-wide (AVX2) where the CPU allows (list_factors.cpp).
+template <class K>
+void kernels_at_distances(const KernelAt<K, 2>& kern, const double* r2, std::size_t n, double* w, float* factors);
+
+template <class K>
+void kernels_at_distances(const KernelAt<K, 3>& kern, const double* r2, std::size_t n, double* w, float* factors) {
+  constant_h_kernels(kern, r2, n, w, factors);
+}
+
 template <class K>
 void constant_h_list(const Vec<3>* pos, const KernelAt<K, 3>& kern, std::uint32_t i, std::span<const std::uint32_t> js,
                      double* w, std::span<float> factors) {
