@@ -1,11 +1,13 @@
 // sphdisk command-line interface (shared/design/formats.md): run, analyze, report.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <thread>
 
 #include "app/ring_analysis.hpp"
 #include "app/simulation.hpp"
@@ -59,10 +61,18 @@ int cmd_report(const std::string& dir) {
 // disk) HDF5 1.10 keeps the half-closed file in its tables and crashes in its atexit handler.
 // Under MPI, ranks other than 0 only report errors of their own (every rank meets the same input
 // errors; rank 0 reports those), and a failing rank stops all others, which would otherwise wait
-// for it forever.
+// for it forever. Such a rank first gives rank 0 a moment to report an input error and stop them
+// all: stopping at once, it could kill rank 0 before its line was out (seen under load with a
+// repeated ID across ranks: exit 2, no message); if it is still running after that, the error was
+// its own, and it reports it.
 [[noreturn]] static void exit_after_error(int code, const char* kind, const std::string& what, bool quiet = false) {
   const sphdisk::Communicator world = sphdisk::Communicator::world();
-  if (!quiet && (world.is_root() || code != 2)) {
+  bool own = world.is_root() || code != 2;
+  if (!own && !quiet && world.size() > 1) {
+    std::this_thread::sleep_for(std::chrono::seconds(3));
+    own = true;
+  }
+  if (!quiet && own) {
     if (world.size() > 1)
       std::fprintf(stderr, "sphdisk (rank %d): %s: %s\n", world.rank(), kind, sphdisk::one_line(what).c_str());
     else

@@ -5,10 +5,10 @@
 // With one global h the sum is a pair loop: each pair is visited once (pair_lists.hpp), its
 // distance, both kernel values and its kernel-gradient factor dW(r, h)/dr / r (pair_factors.hpp) are
 // computed once and serve both particles; where the lists are searched on the loops' schedule
-// (neighbours/tile_half_lists.hpp) the search sums it on its way. With variable h the smoothing-length solve has summed rho
-// already (smoothing_length.hpp), and the factors, the pair average of dW(r, h_i)/dr / r and
-// dW(r, h_j)/dr / r (symmetric in i <-> j as momentum conservation needs), are formed by the first
-// pair loop that reads them.
+// (neighbours/tile_half_lists.hpp) the search sums it on its way. With variable h the
+// smoothing-length solve has summed rho already (smoothing_length.hpp), and the factors, the pair
+// average of dW(r, h_i)/dr / r and dW(r, h_j)/dr / r (symmetric in i <-> j as momentum conservation
+// needs), are formed by the first pair loop that reads them.
 // The particle volume m/rho, the weight of every later pair sum (eqs. 6, 8), is stored with rho.
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
@@ -45,6 +45,7 @@ template <class K, int D>
 class ConstantHDensity {
  public:
   ConstantHDensity(Particles<D>& p, const KernelAt<K, D>& kern, std::size_t writable) : p_(p), kern_(kern), m_(writable) {
+    if constexpr (!kDoubleRho) wide_.resize(p.size());  // here, not in add_list, which threads call at once
     const double self_W = kern.W(0.0);
     double* rho = sums();
     par::for_each(m_, [&](std::size_t i) { rho[i] = p_.mass[i] * self_W; }, "density");
@@ -72,18 +73,14 @@ class ConstantHDensity {
   // stored by finish.
   static constexpr bool kDoubleRho = std::is_same_v<decltype(Particles<D>::rho), std::vector<double>>;
   double* sums() const {
-    if constexpr (kDoubleRho) {
-      return p_.rho.data();
-    } else {
-      if (wide_.size() != p_.size()) wide_.resize(p_.size());
-      return wide_.data();
-    }
+    if constexpr (kDoubleRho) return p_.rho.data();
+    else return wide_.data();
   }
 
   Particles<D>& p_;
   const KernelAt<K, D> kern_;  // by value: stores to rho cannot alias it (it would be reloaded after each)
   std::size_t m_;
-  mutable std::vector<double> wide_;
+  mutable std::vector<double> wide_;  // (mutable: add_list is const, as the loops' bodies are)
 };
 
 // pairs: StoredPairs (pair_lists.hpp), ScannedPairs (pair_scan.hpp) or TiledPairs (tile_half_lists.hpp).
