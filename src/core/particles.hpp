@@ -153,10 +153,11 @@ struct Particles {
   // for_each_field, so state that only some runs use costs the others nothing (kStepState: block
   // timesteps only, 32 bytes per particle; kEnergyOnly: u, du_dt and u_kick, 16-24 bytes, with an
   // energy equation only; kForceCorrectionOnly: the moment correction, 32 bytes, with the force
-  // correction only; a run's choice: unused_fields below). Physics that may
-  // write an absent field tests for it (the viscous heating: du_dt). set_absent_fields(flags) empties the fields flagged with any of `flags` and makes the
-  // others present (sized to the particles; zero where they were absent). Copies of particles made
-  // field by field (a rank's share of a file) take the source's.
+  // correction only; a run's choice: unused_fields above). Physics that may write an absent field
+  // tests for it (the viscous heating and pressure work: du_dt). set_absent_fields(flags) empties
+  // the fields flagged with any of `flags` and makes the others present (sized to the particles;
+  // zero where they were absent). Copies of particles made field by field (a rank's share of a
+  // file) take the source's.
   unsigned absent_fields() const { return absent_; }
   void set_absent_fields(unsigned flags) {
     const std::size_t n = size();
