@@ -202,11 +202,11 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   s.rate_state = out.version >= 4 && num("RateState") != 0;
   s.step_state = out.version >= 5 && num("StepState") != 0;
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
-  const unsigned kMayBeAbsent =
+  const unsigned may_be_absent =
       kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u);
   const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
-  if (!(absent >= 0 && absent <= kMayBeAbsent && absent == std::floor(absent)) ||
-      (static_cast<unsigned>(absent) & ~kMayBeAbsent) != 0)
+  if (!(absent >= 0 && absent <= may_be_absent && absent == std::floor(absent)) ||
+      (static_cast<unsigned>(absent) & ~may_be_absent) != 0)
     throw UserError("'" + path + "': checkpoint attribute 'AbsentFields' is not valid (corrupt file?)");
   const double n_attr = num("NumParticles");
   out.checksum = h5::read_attr_string(g, "Checksum", path);
