@@ -173,6 +173,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.gradient_correction = cfg.gradient_correction;
   s.phys.force_correction = cfg.force_correction;
+  s.phys.viscous_force = cfg.viscous_force == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
   s.phys.accretion_radius = cfg.accretion_radius;
   s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
   s.ring.tau_start = cfg.tau_start;
@@ -233,7 +234,7 @@ class Runner {
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
     integrator_ = make_integrator<kDim>(ip, rates_);
-    p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, cfg.force_correction));
+    p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction()));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
     if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
     for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));

@@ -149,7 +149,8 @@ const std::vector<KeyDef>& schema() {
       float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target neighbour number: sets eta (adaptive) or the global h from the initial conditions (constant)"),
       bool_key("sph.gradient_correction", &Config::gradient_correction, "velocity gradient renormalised to be exact for linear fields (false: plain P98 eq. 8)"),
       string_key("sph.smoothing", &Config::smoothing, {"adaptive", "constant"}, "adaptive: h_i = eta (m_i/rho_i)^(1/D) with eta from sph.neighbours (Phantom, GADGET); constant: one global h (P98 sec. 5.3)"),
-      bool_key("sph.force_correction", &Config::force_correction, "viscous force (eq. 6) with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
+      string_key("sph.viscous_force", &Config::viscous_force, {"consistent", "conservative"}, "divergence of the viscous stress (eq. 6): consistent: zero for a constant stress and exact for linear ones on any particle set (linear momentum conserved to the discretisation error); conservative: eq. 6 as printed (momentum and energy conserved to round-off, but too little spreading where viscosity acts within an orbit across a kernel, docs/validation.md)"),
+      bool_key("sph.force_correction", &Config::force_correction, "with sph.viscous_force = \"conservative\": eq. 6 with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
       float_key("sph.list_skin", &Config::list_skin, in_range(0, 1), "neighbour lists built to (1 + skin) x the support and kept while the particles' relative motion leaves them complete (0: built every evaluation; one process, not with integrator.scheme = \"block\")"),
       string_key("sph.pair_lists", &Config::pair_lists, {"stored", "rescan"}, "stored: neighbour lists and pair factors built once per evaluation (fastest); rescan: each pair loop searches its pairs anew and nothing is stored (least memory, slower)"),
@@ -311,6 +312,9 @@ void check_consistency(const Config& c) {
   if (c.dimension != 2)
     throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
   if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");
+  if (c.force_correction && c.viscous_force != "conservative")
+    throw UserError("config: sph.force_correction = true corrects the conservative form of eq. 6; add "
+                    "sph.viscous_force = \"conservative\" (the default consistent form is corrected already)");
   if (c.list_skin > 0 && c.pair_lists == "rescan")
     throw UserError("config: sph.list_skin > 0 needs sph.pair_lists = \"stored\" (rescan keeps no lists to reuse); "
                     "set sph.list_skin = 0 or sph.pair_lists = \"stored\"");

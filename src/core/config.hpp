@@ -33,6 +33,7 @@ struct Config {
   double neighbours = 60;          // target mean neighbour number of the initial conditions
   bool gradient_correction = true;  // velocity gradient exact for linear fields (viscous_stress.hpp)
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
+  std::string viscous_force = "consistent";  // consistent | conservative (physics/physics_params.hpp)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   std::string pair_lists = "stored";  // stored | rescan (rate_evaluator.hpp, PairStorage)

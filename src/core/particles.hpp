@@ -30,7 +30,8 @@ enum FieldFlag : unsigned {
   kEnergyStepState = 1u << 6,  // such state that only an energy equation needs (absent without one;
                                // since kEnergyOnly fields are absent then too, kept for the
                                // checkpoints of format 5, whose AbsentFields name it)
-  kForceCorrectionOnly = 1u << 7,  // read and written only with the force correction (sph.force_correction)
+  kForceCorrectionOnly = 1u << 7,  // read and written only where a force reads the moment correction
+                                   // (sph.force_correction, or the consistent viscous force)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -77,10 +78,10 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 
 // The fields a run does not use, to be made absent (Particles::set_absent_fields): the block
 // integrator's state inside a step without block timesteps, the energy equation's fields without
-// one, the moment correction without the force correction.
-constexpr unsigned unused_fields(bool step_state, bool energy, bool force_correction) {
+// one, the moment correction where no force reads it (PhysicsParams::keeps_correction).
+constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction) {
   return (step_state ? 0u : unsigned{kStepState}) | (energy ? 0u : unsigned{kEnergyOnly | kEnergyStepState}) |
-         (force_correction ? 0u : unsigned{kForceCorrectionOnly});
+         (moment_correction ? 0u : unsigned{kForceCorrectionOnly});
 }
 
 template <int D>

@@ -1,11 +1,14 @@
 #pragma once
 // Hydrodynamic accelerations from the stored stresses (P98 eqs. 1, 6, 9) plus point-mass gravity.
 //   viscous:  a_i += sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij                (eq. 6)
+//             or, by default, its consistent form (physics_params.hpp, ViscousForce):
+//             a_i += sum_j V_j [S_j - S_i + S_i ln(rho_j / rho_i)] . C_i grad_i W_ij
 //   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (physics.md 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
 //   gravity:  a_i -= G M x_i / |x_i|^3   (left out when the integrator substeps it)
 // With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
-// Pair terms are antisymmetric in i <-> j, so linear momentum is conserved to round-off. Angular
+// The conservative form's pair terms are antisymmetric in i <-> j, so linear momentum is conserved
+// to round-off (the consistent form's to the discretisation error). Angular
 // momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
 // Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
 // Writes: acc, du_dt (the pressure work, where the particles hold it: with an energy equation).
@@ -33,6 +36,7 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
 // Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
 struct ForceScratch {
   OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (empty without pressure)
+  OverwriteVector<double> log_rho;               // ln rho (empty without the consistent divergence)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
@@ -49,14 +53,18 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   auto& Pr = scratch.p_over_rho2;
   renew_snug(inv_rho, p.size());
   renew_snug(Pr, with_pressure ? p.size() : 0);  // (read only with pressure, list_sums.hpp)
+  const bool consistent = phys.viscous_force == ViscousForce::Consistent;
+  auto& log_rho = scratch.log_rho;
+  renew_snug(log_rho, consistent ? p.size() : 0);
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
+    if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
     if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
-                          phys.force_correction};
+                          phys.force_correction, consistent ? log_rho.data() : nullptr, consistent};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

@@ -237,7 +237,7 @@ void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const 
                     Vec<2>& ai, double& du_i) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS
-  if (!d.with_pressure && !d.force_correction) {
+  if (!d.with_pressure && !d.force_correction && !d.consistent) {
     if (vector_isa() == VectorIsa::avx512) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
     if (vector_isa() == VectorIsa::avx2) return force_list_avx2(d, i, js, F, ai, du_i);
   }

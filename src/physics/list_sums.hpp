@@ -83,7 +83,8 @@ template <int D>
 }
 
 // What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.
-// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction;
+// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction or
+// the consistent divergence; log_rho: ln rho (read only with the consistent divergence);
 // du_dt: null where the particles hold no energy rate (no energy equation: the pressure work is
 // not kept).
 template <int D>
@@ -99,41 +100,79 @@ struct ForceListData {
   double* du_dt;
   std::size_t writable;
   bool with_pressure, force_correction;
+  const double* log_rho = nullptr;
+  bool consistent = false;
 };
 
+// The consistent divergence's viscous terms of one pair (physics_params.hpp, ViscousForce):
+//   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . C_i g,
+//   a_j += V_i [S_j - S_i + S_j (ln rho_j - ln rho_i)] . C_j g     (grad_j W_ji = -g, dS and dl odd),
+// with g = grad_i W_ij. Zero for a constant stress and density; for linear ones each particle's sum
+// is their exact divergence (C = M^-1 makes the sum exact for linear fields).
+template <int D>
+[[gnu::always_inline]] inline void consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci, const Mat<D>& Cj,
+                                                          double dl, const Vec<D>& g, Vec<D>& to_i, Vec<D>& to_j) {
+  Mat<D> Xi, Xj;
+  for (std::size_t c = 0; c < Xi.c.size(); ++c) {
+    const double dS = Sj.c[c] - Si.c[c];
+    Xi.c[c] = dS + Si.c[c] * dl;
+    Xj.c[c] = dS + Sj.c[c] * dl;
+  }
+  to_i = contract(Xi, contract(Ci, g));
+  to_j = contract(Xj, contract(Cj, g));
+}
+
 // The pair terms of forces.hpp (eq. 6 and the pressure force) for one list: i's to ai and du_i.
-// The two switches are template arguments so that the ring's case (neither) runs a loop without
-// their tests (force_list_terms), chosen once per list by add_force_list_scalar.
-template <int D, bool Pressure, bool Correction>
+// The switches are template arguments so that each case runs a loop without the others' tests
+// (force_list_terms), chosen once per list by add_force_list_scalar. Correction: the force
+// correction of the conservative divergence; Consistent: the consistent divergence (then
+// Correction is false).
+template <int D, bool Pressure, bool Correction, bool Consistent = false>
 void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                       std::span<const float> F, Vec<D>& ai, double& du_i) {
   const Vec<D> xi = d.pos[i], vi = d.vel[i];
   const Mat<D> Si = as_double(d.stress[i]);
   const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
   const double Pr_i = Pressure ? d.p_over_rho2[i] : 0.0;
+  Mat<D> Ci;
+  if constexpr (Consistent) Ci = as_double(d.correction[i]);
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
     Vec<D> g = (xi - d.pos[j]) * static_cast<double>(F[q]);
     if constexpr (Correction) g = corrected_pair_gradient(as_double(d.correction[i]), as_double(d.correction[j]), g);
-    Mat<D> X;
     const Mat<D> Sj = as_double(d.stress[j]);
-    for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * d.inv_rho[j] + Sj.c[c] * inv_rho_i;
-    Vec<D> f = contract(X, g);
     const double mj = d.mass[j];
+    Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
+    if constexpr (Consistent) {
+      Vec<D> to_i, to_j;
+      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), d.log_rho[j] - d.log_rho[i], g, to_i, to_j);
+      ai += to_i * (mj * d.inv_rho[j]);
+      if (j < d.writable) d.acc[j] += to_j * (mi * inv_rho_i);
+    } else {
+      Mat<D> X;
+      for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * d.inv_rho[j] + Sj.c[c] * inv_rho_i;
+      f = contract(X, g);
+    }
     if constexpr (Pressure) {
       f -= g * (Pr_i + d.p_over_rho2[j]);
       const double work = dot(vi - d.vel[j], g);
       du_i += Pr_i * mj * work;
       if (j < d.writable && d.du_dt) d.du_dt[j] += d.p_over_rho2[j] * mi * work;
     }
-    ai += f * mj;
-    if (j < d.writable) d.acc[j] -= f * mi;
+    if constexpr (!Consistent || Pressure) {
+      ai += f * mj;
+      if (j < d.writable) d.acc[j] -= f * mi;
+    }
   }
 }
 
 template <int D>
 void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                            std::span<const float> F, Vec<D>& ai, double& du_i) {
+  if (d.consistent) {
+    if (d.with_pressure) return force_list_terms<D, true, false, true>(d, i, js, F, ai, du_i);
+    return force_list_terms<D, false, false, true>(d, i, js, F, ai, du_i);
+  }
   if (d.with_pressure) {
     if (d.force_correction) return force_list_terms<D, true, true>(d, i, js, F, ai, du_i);
     return force_list_terms<D, true, false>(d, i, js, F, ai, du_i);

@@ -5,6 +5,19 @@ namespace sphdisk {
 
 enum class EquationOfState { None, Isothermal };
 
+// How eq. 6's divergence of the viscous stress is discretised (physics/forces.hpp):
+//   Conservative: sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij, as P98 prints it; pair terms
+//                 antisymmetric, so linear momentum is conserved to round-off, but a constant stress
+//                 gives a force S . sum_j m_j (1/rho_i + 1/rho_j) grad_i W_ij that vanishes only on
+//                 ordered particles.
+//   Consistent:   (1/rho) div(rho S) = div S + S . grad ln rho, each from differences over the
+//                 neighbours with the linear-exact gradient (C_i = M_i^-1):
+//                 sum_j V_j [S_j - S_i + S_i ln(rho_j / rho_i)] . C_i grad_i W_ij; exactly zero for a
+//                 constant stress and density on any particle set, exact for linear ones. Linear
+//                 momentum is conserved only to the discretisation error.
+// docs/validation.md ("Why the ring spread too slowly") shows why the default is Consistent.
+enum class ViscousForce { Conservative, Consistent };
+
 struct PhysicsParams {
   double gm = 1.0;                // G * M of the central point mass
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
@@ -15,6 +28,9 @@ struct PhysicsParams {
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
   bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
+  ViscousForce viscous_force = ViscousForce::Consistent;  // discretisation of eq. 6's divergence (above)
+  // Whether the particles hold the moment correction C_i = M_i^-1 (core/particles.hpp, correction).
+  bool keeps_correction() const { return force_correction || viscous_force == ViscousForce::Consistent; }
 };
 
 inline double pressure(const PhysicsParams& p, double rho) {

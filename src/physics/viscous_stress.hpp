@@ -141,9 +141,13 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));
     if (heating) p.du_dt[i] = 0.5 * double_dot(S, g.V * C);  // C symmetric: V C_i^T = V C_i
-  } else if (heating) {
-    // Heating with eq. 8's V: it is what pairs with the force of forces.hpp, so kinetic + internal
-    // energy stay exactly conserved whichever gradient sets the stress.
+  } else {
+    // The consistent divergence (physics_params.hpp) reads every neighbour's C.
+    if (phys.keeps_correction()) store(p.correction[i], correction_from_moments(g.M));
+    if (!heating) return;
+    // Heating with eq. 8's V: it is what pairs with the conservative force of forces.hpp, so kinetic +
+    // internal energy stay exactly conserved with it whichever gradient sets the stress (with the
+    // consistent force, to the discretisation error).
     p.du_dt[i] = double_dot(S, g.V);
   }
 }

@@ -183,7 +183,8 @@ TEST(SmoothingLength, ConservationAndLinearExactnessWithVariableH) {
   phys.sound_speed = 0.3;
   phys.evolve_energy = true;
   for (bool force_correction : {true, false}) {  // the rest of the test uses the last set of rates
-    phys.force_correction = force_correction;
+    // (the conservative form of eq. 6, whose conservation is exact: physics_params.hpp)
+    phys = test::with_form(phys, force_correction ? test::Form::ForceCorrected : test::Form::Conservative);
     evaluate_adaptive(p, 0.02, 50, phys, KernelType::WendlandC2);
     test::expect_momentum_and_energy_conserved(p, force_correction ? "adaptive h, force correction" : "adaptive h");
   }
@@ -308,8 +309,8 @@ TEST(SmoothingLength, SameBitsForAnyThreadCount) {
 }
 
 // Without stored lists (the mode for runs that would not fit) the evaluator holds no per-particle
-// scratch of its pair loops between evaluations but 1/rho (the gradient sums alone were 64 bytes
-// per particle), and release_rebuilt_memory() (before a reorder) leaves nothing of what it rebuilds;
+// scratch of its pair loops between evaluations but 1/rho and ln rho (the gradient sums alone were
+// 64 bytes per particle), and release_rebuilt_memory() (before a reorder) leaves nothing of what it rebuilds;
 // the evaluations after it give the same bits as those of an evaluator that kept its memory.
 TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds) {
   auto p0 = test::random_particles<2>(2000, 5, false);
@@ -325,9 +326,9 @@ TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds)
   EXPECT_TRUE(released.gradient_sums().empty());
   std::map<std::string, std::size_t> bytes;
   for (const auto& [part, b] : released.memory()) bytes[part] = b;
-  // The force loop's 1/rho (8 bytes per particle) and the candidate filter's prefix (4); the
-  // gradient sums alone would be 64.
-  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * 2 * sizeof(double));
+  // The force loop's 1/rho and ln rho (8 bytes per particle each) and the candidate filter's prefix
+  // (4); the gradient sums alone would be 64.
+  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * 3 * sizeof(double));
   EXPECT_GT(bytes["cell_grid"], 0u);
   released.release_rebuilt_memory();
   for (const auto& [part, b] : released.memory()) EXPECT_EQ(b, 0u) << part;

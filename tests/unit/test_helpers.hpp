@@ -44,6 +44,20 @@ Particles<D> random_particles(std::size_t n, unsigned seed, bool clustered) {
   return p;
 }
 
+// The three discretisations of eq. 6's divergence (physics/physics_params.hpp): the conservative
+// form, the same with the force correction, and the consistent form (the default).
+enum class Form { Conservative, ForceCorrected, Consistent };
+
+inline PhysicsParams with_form(PhysicsParams phys, Form form) {
+  phys.viscous_force = form == Form::Consistent ? ViscousForce::Consistent : ViscousForce::Conservative;
+  phys.force_correction = form == Form::ForceCorrected;
+  return phys;
+}
+
+inline const char* form_name(Form form) {
+  return form == Form::Conservative ? "conservative" : form == Form::ForceCorrected ? "force-corrected" : "consistent";
+}
+
 // Physical viscosity nu and no point mass: the pair terms alone.
 inline PhysicsParams viscous_no_gravity(double nu) {
   PhysicsParams phys;

@@ -172,9 +172,9 @@ TEST(ViscousForce, MatchesAnalyticForPoiseuilleProfileWithEveryKernel) {
   }
 }
 
-// On a disordered set with arbitrary velocities: sum m a = 0 and d(E_kin + U)/dt = 0 to round-off
-// (with the corrected gradient, the default). Angular momentum is not exact in this form: the pair
-// force (S_i/rho_j + S_j/rho_i) . grad W is not central.
+// On a disordered set with arbitrary velocities, the conservative form of eq. 6: sum m a = 0 and
+// d(E_kin + U)/dt = 0 to round-off (with the corrected gradient, the default). Angular momentum is
+// not exact in this form: the pair force (S_i/rho_j + S_j/rho_i) . grad W is not central.
 TEST(Conservation, MomentumAndEnergyExactOnRandomSets) {
   for (bool force_correction : {false, true}) {
     auto p = test::random_particles<2>(3000, 11, true);
@@ -184,7 +184,7 @@ TEST(Conservation, MomentumAndEnergyExactOnRandomSets) {
     phys.eos = EquationOfState::Isothermal;
     phys.sound_speed = 0.3;
     phys.evolve_energy = true;
-    phys.force_correction = force_correction;
+    phys = test::with_form(phys, force_correction ? test::Form::ForceCorrected : test::Form::Conservative);
     PhaseTimers timers;
     RateEvaluator<2> rates(KernelType::WendlandC2, 0.02, phys, timers);
     rates.evaluate(p);
@@ -192,31 +192,32 @@ TEST(Conservation, MomentumAndEnergyExactOnRandomSets) {
   }
 }
 
-// Without an energy equation the particles hold no u and du_dt, and without the force correction no
+// Without an energy equation the particles hold no u and du_dt, and where no force reads it no
 // moment correction (core/particles.hpp, unused_fields): the rates of such lean particles must be
-// those of particles holding every field, bit for bit, with and without pressure and force
-// correction, with stored pairs and with pairs searched anew (whose gradient and force loops are
-// then joined even with the force correction: no heating loop lies between them).
+// those of particles holding every field, bit for bit, with and without pressure, in each form of
+// eq. 6, with stored pairs and with pairs searched anew (whose gradient and force loops are then
+// joined even with the force correction: no heating loop lies between them).
 TEST(Conservation, FieldsARunDoesNotUseChangeNoRate) {
-  for (bool force_correction : {false, true})
+  for (test::Form form : {test::Form::Conservative, test::Form::ForceCorrected, test::Form::Consistent})
     for (bool pressure : {false, true})
       for (PairStorage storage : {PairStorage::Stored, PairStorage::Rescan}) {
         Particles<2> full = test::random_particles<2>(2000, 5, true);
         for (auto& x : full.pos) x += Vec<2>{{2.0, 2.0}};
         Particles<2> lean = full;
-        lean.set_absent_fields(unused_fields(false, false, force_correction));
         PhysicsParams phys = viscous(0.01, 0.003);
         phys.gm = 0.0;
         phys.eos = pressure ? EquationOfState::Isothermal : EquationOfState::None;
         phys.sound_speed = 0.3;
-        phys.force_correction = force_correction;
+        phys = test::with_form(phys, form);
+        const bool force_correction = phys.keeps_correction();
+        lean.set_absent_fields(unused_fields(false, false, force_correction));
         for (Particles<2>* p : {&full, &lean}) {
           PhaseTimers timers;
           RateEvaluator<2> rates(KernelType::WendlandC2, 0.02, phys, timers);
           rates.set_pair_storage(storage);
           rates.evaluate(*p);
         }
-        SCOPED_TRACE(std::string("force correction ") + (force_correction ? "on" : "off") + ", pressure " +
+        SCOPED_TRACE(std::string(test::form_name(form)) + ", pressure " +
                      (pressure ? "on" : "off") + (storage == PairStorage::Rescan ? ", rescan" : ", stored"));
         EXPECT_TRUE(lean.u.empty() && lean.du_dt.empty());
         EXPECT_EQ(lean.correction.empty(), !force_correction);
@@ -234,14 +235,90 @@ TEST(Conservation, FieldsARunDoesNotUseChangeNoRate) {
 // force v_x = a y^2 -> (2 a nu, 0) is ~1-2% off with the plain gradient, and must come out closer.
 TEST(ViscousForce, ForceCorrectionReducesTheLatticeMomentError) {
   const double a = 1.5, nu = 0.02;
-  double worst[2] = {0, 0};
-  for (bool force_correction : {false, true}) {
-    PhysicsParams phys = viscous(nu);
-    phys.force_correction = force_correction;
+  double worst[3] = {0, 0, 0};
+  for (test::Form form : {test::Form::Conservative, test::Form::ForceCorrected, test::Form::Consistent}) {
+    const PhysicsParams phys = test::with_form(viscous(nu), form);
     auto e = evaluate_lattice([&](const Vec<2>& x) { return Vec<2>{{a * x[1] * x[1], 0.0}}; }, phys, 1.3);
-    for (std::size_t i : e.inner)
-      worst[force_correction] = std::max(worst[force_correction], std::abs(e.p.acc[i][0] - 2 * a * nu) / (2 * a * nu));
+    const auto k = static_cast<std::size_t>(form);
+    for (std::size_t i : e.inner) worst[k] = std::max(worst[k], std::abs(e.p.acc[i][0] - 2 * a * nu) / (2 * a * nu));
   }
   EXPECT_GT(worst[0], 5e-3);  // the error the correction is for
   EXPECT_LT(worst[1], 0.2 * worst[0]);
+  EXPECT_LT(worst[2], 0.2 * worst[0]);  // the consistent form is first-order exact too
+}
+
+// The consistent form of eq. 6's divergence (physics_params.hpp) on hand-placed, disordered
+// neighbours with unequal masses: for a linear stress S(x) = S0 + B x and a linear log-density
+// ln rho(x) = l0 + k . x, particle i's sum must equal (1/rho) div(rho S) = div S + S . k at x_i to
+// round-off, whatever the particle arrangement (the conservative form is off by S . sum_j m_j
+// (1/rho_i + 1/rho_j) grad W, which only ordered particles make small). Each partner's term of the
+// pair, added to acc[j], must be the same formula seen from j (checked against j's own list {i}).
+TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticles) {
+  const double h = 0.1;
+  const KernelAt<CubicSpline, 2> kern(h);
+  const Vec<2> k{{1.7, -0.6}};
+  const Mat<2> S0{{0.4, -1.3, -1.3, 0.2}};
+  const double B[2][2][2] = {{{0.5, -2.0}, {1.0, 0.3}}, {{-0.7, 0.9}, {0.2, 1.4}}};  // dS_ab/dx_c = B[a][b][c]
+  auto stress_at = [&](const Vec<2>& x) {
+    Mat<2> S = S0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) S(a, b) += B[a][b][0] * x[0] + B[a][b][1] * x[1];
+    return S;
+  };
+  for (bool linear_stress : {false, true}) {
+    std::mt19937_64 g(77);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const std::size_t n = 70;  // particle 0 and its partners, all within the support 2h
+    std::vector<Vec<2>> pos(n), vel(n), acc(n);
+    std::vector<Mat<2, ReducedReal>> stress(n), correction(n);
+    std::vector<double> mass(n), inv_rho(n), log_rho(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      do pos[j] = j == 0 ? Vec<2>{{0.3, -0.2}} : Vec<2>{{0.3 + 2 * h * u(g), -0.2 + 2 * h * u(g)}};
+      while (j > 0 && norm(pos[j] - pos[0]) > 1.9 * h);
+      if (j > 0 && j % 3 == 0) pos[j] = pos[0] + (pos[j] - pos[0]) * 0.3;  // a clump on one side
+      mass[j] = 1.0 + 0.5 * u(g);
+      log_rho[j] = 0.8 + dot(k, pos[j]);
+      inv_rho[j] = std::exp(-log_rho[j]);
+      store(stress[j], linear_stress ? stress_at(pos[j]) : S0);
+      correction[j] = {};
+    }
+    // Particle 0's moment matrix M = -sum_j V_j F dx (x) dx and its correction C = M^-1.
+    std::vector<std::uint32_t> js;
+    std::vector<float> F;
+    Mat<2> M;
+    for (std::uint32_t j = 1; j < n; ++j) {
+      js.push_back(j);
+      F.push_back(static_cast<float>(kern.dW_over_r(norm(pos[0] - pos[j]))));
+      const Vec<2> dx = pos[0] - pos[j];
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) M(a, b) -= mass[j] * inv_rho[j] * static_cast<double>(F.back()) * dx[a] * dx[b];
+    }
+    Mat<2> C;
+    ASSERT_TRUE(invert_if_well_conditioned(M, C));
+    store(correction[0], C);
+    for (std::size_t j = 1; j < n; ++j) store(correction[j], Mat<2>{{1.0 + 0.1 * u(g), 0.2 * u(g), 0.0, 1.0}});
+    for (std::size_t j = 1; j < n; ++j) correction[j].c[2] = correction[j].c[1];  // symmetric
+    const ForceListData<2> d{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
+                             nullptr, acc.data(), nullptr, n, false, false, log_rho.data(), true};
+    Vec<2> a0;
+    double du = 0;
+    add_force_list(d, 0, js, F, a0, du);
+    // Expected: div S + S . k at x_0.
+    const Mat<2> Si = as_double(stress[0]);
+    Vec<2> expected = contract(Si, k);
+    if (linear_stress)
+      for (int a = 0; a < 2; ++a) expected[a] += B[a][0][0] + B[a][1][1];
+    const double tolerance = (sizeof(ReducedReal) == sizeof(double) ? 1e-9 : 1e-5) * (norm(expected) + 1.0);
+    EXPECT_LT(norm(a0 - expected), tolerance) << (linear_stress ? "linear stress" : "constant stress");
+    // Each partner's term equals its own list {0}'s (factor F symmetric in the pair).
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q], zero = 0;
+      std::vector<Vec<2>> acc_j(n);
+      const ForceListData<2> dj{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
+                                nullptr, acc_j.data(), nullptr, 0, false, false, log_rho.data(), true};
+      Vec<2> aj;
+      add_force_list(dj, j, std::span<const std::uint32_t>(&zero, 1), std::span<const float>(&F[q], 1), aj, du);
+      ASSERT_LT(norm(acc[j] - aj), 1e-12 * (norm(aj) + 1e-300)) << "partner " << j;
+    }
+  }
 }
