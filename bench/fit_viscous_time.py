@@ -46,7 +46,7 @@ def fit(path):
         a = annulus_means(t, mass)
         return np.abs(binned - a).sum() / a.sum()
 
-    best = min(tau * np.linspace(0.8, 1.2, 81), key=l1)
+    best = min(tau * np.linspace(0.5, 1.5, 201), key=l1)  # (the range and step of `sphdisk analyze`)
     return tau, l1(tau), best, l1(best)
 
 

@@ -144,18 +144,28 @@ def read_header(path):
     return header
 
 
+# sigma_2 w(0) of the 2D kernels (src/physics/kernels.hpp): the self term of the summation density
+# is m sigma_2 w(0) / h^2.
+SELF_WEIGHT_2D = {"cubic": 10 / (7 * math.pi), "wendland_c2": 7 / (4 * math.pi), "wendland_c4": 9 / (4 * math.pi)}
+
+
 def read_particles(path):
-    """Cylindrical radius, radial velocity, Sigma and x-y positions of the gas particles."""
+    """Cylindrical radius, radial velocity, Sigma, the self-term-free Sigma (None without
+    smoothing lengths) and x-y positions of the gas particles."""
     with h5py.File(path, "r") as f:
         gas = f["PartType0"]
         pos = np.asarray(gas["Coordinates"][:], dtype=float).reshape(-1, 3)
         vel = np.asarray(gas["Velocities"][:], dtype=float).reshape(-1, 3)
         sigma = np.asarray(gas["Density"][:], dtype=float)
         mass = np.asarray(gas["Masses"][:], dtype=float)
+        h = np.asarray(gas["SmoothingLength"][:], dtype=float) if "SmoothingLength" in gas else None
+        kernel = f["Parameters"].attrs.get("sph.kernel", b"cubic") if "Parameters" in f else b"cubic"
+        kernel = (kernel.decode() if isinstance(kernel, bytes) else str(kernel)).strip('"')
     r = np.hypot(pos[:, 0], pos[:, 1])
     with np.errstate(invalid="ignore", divide="ignore"):
         vr = (pos[:, 0] * vel[:, 0] + pos[:, 1] * vel[:, 1]) / r
-    return {"xy": pos[:, :2], "r": r, "vr": vr, "sigma": sigma, "mass": mass}
+        noself = sigma - mass * SELF_WEIGHT_2D.get(kernel, SELF_WEIGHT_2D["cubic"]) / h**2 if h is not None else None
+    return {"xy": pos[:, :2], "r": r, "vr": vr, "sigma": sigma, "sigma_noself": noself, "mass": mass}
 
 
 def read_csv_columns(path, required):
@@ -202,6 +212,7 @@ class SnapshotStats:
     mass_sigma: np.ndarray          # annulus mass / annulus area
     mass_ana: np.ndarray | None     # analytic annulus mean of Sigma
     l1_mass: float | None
+    mean_noself: np.ndarray | None  # particle mean of the self-term-free summation density
 
 
 def bin_edges(r0):
@@ -249,6 +260,7 @@ def snapshot_stats(path, header, parts):
     r0 = ring.r0 if ring else float(header.get("RingRadius", 1.0) or 1.0)
     edges = bin_edges(r0)
     mean_sph, counts = binned_mean(parts["r"], parts["sigma"], edges)
+    mean_noself = binned_mean(parts["r"], parts["sigma_noself"], edges)[0] if parts.get("sigma_noself") is not None else None
     mass_sigma = annulus_sigma(parts["r"], parts["mass"], edges)
     mean_ana = l1 = scatter = mass_ana = l1_mass = None
     if ring:
@@ -260,7 +272,7 @@ def snapshot_stats(path, header, parts):
         l1_mass = float(np.sum(np.abs(mass_sigma - mass_ana)) / np.sum(mass_ana))
     return SnapshotStats(os.path.basename(path), float(header.get("Time", math.nan)),
                          snapshot_tau(header), len(parts["r"]), ring, 0.5 * (edges[1:] + edges[:-1]),
-                         mean_sph, mean_ana, counts, l1, scatter, mass_sigma, mass_ana, l1_mass)
+                         mean_sph, mean_ana, counts, l1, scatter, mass_sigma, mass_ana, l1_mass, mean_noself)
 
 
 def pick_figure_snapshot(headers):
@@ -361,11 +373,14 @@ def plot_binned_sigma(all_stats, path):
         label = f"τ = {stats.tau:.3g}" if stats.tau is not None else stats.name
         ax.plot(stats.centres, stats.mean_sph, ls="none", marker="o", ms=3, color=colour, label=label)
         ax.plot(stats.centres, stats.mass_sigma, ls="none", marker="s", ms=4, mfc="none", mew=0.7, color=colour)
+        if stats.mean_noself is not None:
+            ax.plot(stats.centres, stats.mean_noself, ls="none", marker="^", ms=3, mfc="none", mew=0.7, color=colour)
         if stats.ring:
             rr = np.linspace(stats.centres[0], stats.centres[-1], 800)
             ax.plot(rr, stats.ring.sigma(rr), color=colour, lw=1)
     ax.set(xlabel="r (code units)", ylabel="⟨Σ⟩ per bin (code units)",
-           title=f"Σ in {N_BINS} bins: particle mean (dots), annulus mass/area (squares), analytic (lines)",
+           title=f"Σ in {N_BINS} bins: particle mean of the SPH Σ (dots) and of Σ without its self term m W(0, h)\n"
+                 "(triangles: unbiased on disordered particles), annulus mass/area (squares), analytic (lines)",
            ylim=(0, None))
     ax.title.set_fontsize("small")
     ax.legend(fontsize="small")

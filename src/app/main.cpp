@@ -1,5 +1,6 @@
 // sphdisk command-line interface (shared/design/formats.md): run, analyze, report.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -83,6 +84,50 @@ int cmd_report(const std::string& dir) {
   std::_Exit(code);
 }
 
+namespace {
+
+std::string one_line(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// "; did you mean 'X'?" for the first word of the command line that is neither a subcommand nor
+// an option of the chosen one but lies within two edits of one; "" otherwise.
+std::string closest_word(const CLI::App& app, int argc, char** argv) {
+  const auto closest = [](const std::string& word, const std::vector<std::string>& known) -> std::string {
+    std::string best;
+    std::size_t best_d = 3;
+    for (const std::string& k : known) {
+      if (k == word) return "";
+      const std::size_t d = sphdisk::edit_distance(word, k);
+      if (d < best_d) best_d = d, best = k;
+    }
+    return best.empty() ? "" : "; did you mean '" + best + "'?";
+  };
+  const CLI::App* sub = nullptr;
+  for (int k = 1; k < argc; ++k) {
+    const std::string word = argv[k];
+    if (!sub && word.rfind('-', 0) != 0) {
+      std::vector<std::string> names;
+      for (const CLI::App* s : app.get_subcommands({})) {
+        names.push_back(s->get_name());
+        if (s->get_name() == word) sub = s;
+      }
+      if (!sub) return closest(word, names);
+    } else if (sub && word.rfind("--", 0) == 0) {
+      std::vector<std::string> names;
+      for (const CLI::Option* o : sub->get_options())
+        for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+      const std::string hint = closest(word.substr(0, word.find('=')), names);
+      if (!hint.empty()) return hint;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"sphdisk: parallel SPH for viscous accretion discs"};
   app.set_version_flag("--version",
@@ -132,8 +177,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // One line, exit code 2, and the closest command or option where a word is mistyped (as the
+    // configuration's errors).
+    std::cerr << "sphdisk: " << one_line(e.what()) << closest_word(app, argc, argv) << "\n";
+    return 2;
   }
   // Runs may span MPI ranks (mpirun -np P sphdisk run ...); the other commands are one process.
   std::optional<sphdisk::MpiSession> mpi;

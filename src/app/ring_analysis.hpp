@@ -7,6 +7,7 @@
 
 #include "core/particles.hpp"
 #include "io/snapshot.hpp"
+#include "problems/ring_analytic.hpp"
 
 namespace sphdisk {
 
@@ -15,6 +16,8 @@ struct RingBin {
   std::size_t count = 0;
   double sigma_sph = 0;   // mean particle Sigma in the bin
   double sigma_ana = 0;   // mean analytic Sigma at the same particles' radii (like with like)
+  double sigma_noself = 0;  // mean particle Sigma without its self term m W(0, h): the summation
+                            // over the other particles, unbiased where they are disordered
   double vr_sph = 0;      // mean particle v_r
   double vr_ana = 0;      // mean analytic v_r at the same radii
   double vr_drift = 0;    // mean guiding-centre drift 2 j (dj/dt) / (G M): v_r without epicycles
@@ -31,13 +34,23 @@ struct RingComparison {
                                // bin b) over bins where |<v_r,ana>| >= 20% of its maximum
   double vr_drift_l1 = 0;      // same for the guiding-centre drift velocity
   double mass_sigma_l1 = 0;    // annulus mass / area against the analytic annulus means
+  double sampling_floor = 0;   // expected mass_sigma_l1 of N particles drawn at random from the exact
+                               // profile (binomial bin counts): the error a perfect code still shows
+  double tau_fit = 0;          // viscous time whose analytic annulus means fit the binned mass best
+                               // (least mass_sigma_l1); tau_fit / tau < 1: the ring spread too slowly
+  double mass_sigma_l1_at_fit = 0;  // mass_sigma_l1 against the profile at tau_fit
   double sigma_scatter = 0;    // rms of Sigma_i / Sigma_ana(r_i) - 1 over particles with Sigma_ana > 1% of peak
+  double core_sigma_bias = 0;  // mean Sigma_i / Sigma_ana(r_i) - 1 over particles with 0.9 <= r / r0 <= 1.1
+  double core_sigma_noself_bias = 0;  // the same for Sigma without its self term
   double mass = 0;             // mass in the particles
   double accreted_mass = 0;
 };
 
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0.05,
                             double r_max = 2.05);
+
+// The binned mass's L1 against the analytic annulus means at viscous time tau (as mass_sigma_l1).
+double annulus_mass_l1(const RingComparison& c, const RingSolution& sol, double tau);
 
 std::string ring_comparison_table(const RingComparison& c);
 std::string ring_comparison_json(const RingComparison& c);

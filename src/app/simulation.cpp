@@ -91,6 +91,33 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::remove(probe, ec);
 }
 
+// What a run writes into its directory (and `sphdisk report` beside it): with --overwrite all of it
+// goes before the new run writes anything, so two runs' outputs never mix (a stale snapshot_004 of a
+// longer earlier run would otherwise sit beside the new run's three). Files of other names stay.
+bool written_by_a_run(const std::string& name) {
+  const auto starts = [&](const char* prefix) { return name.rfind(prefix, 0) == 0; };
+  const auto ends = [&](const char* suffix) {
+    const std::string s(suffix);
+    return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+  };
+  return (starts("snapshot_") && ends(".hdf5")) || (starts("debug_step_") && ends(".hdf5")) || starts(kCheckpointName) ||
+         name == kDiagnosticsName || name == "config.toml" || name == "timers.json" || name == "ranks.json" ||
+         name == "report";
+}
+
+void remove_earlier_run(const std::string& dir) {
+  std::vector<fs::path> old;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (written_by_a_run(e.path().filename().string())) old.push_back(e.path());
+  for (const auto& path : old) {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+    if (ec)
+      throw UserError("--overwrite: cannot remove '" + path.string() + "' of the earlier run (" + ec.message() +
+                      "); remove it by hand or choose another directory with --output");
+  }
+}
+
 void write_text_file(const std::string& dir, const std::string& name, const std::string& text) {
   write_text_atomically((fs::path(dir) / name).string(), text);
 }
@@ -575,6 +602,9 @@ RunSummary Runner::advance() {
   }
   std::signal(SIGTERM, old_term);
   std::signal(SIGINT, old_int);
+  // Stopped by run.max_steps before the last output: a checkpoint, so that `sphdisk resume` continues.
+  if (!interrupted && static_cast<std::size_t>(s_.next_output) < t_out_.size() && last_checkpoint_step_ != s_.step)
+    write_checkpoint_now();
   on_root([&] {
     csv_.close();
     if (!csv_) throw UserError("cannot finish writing diagnostics.csv in '" + dir_ + "' (disk full?)");
@@ -708,11 +738,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   // Inputs are valid: only now touch the output directory.
   run_on_root(comm, [&] {
     prepare_output_dir(dir, opts.overwrite);
-    if (opts.overwrite) {
-      std::error_code ec;
-      fs::remove(fs::path(dir) / kDiagnosticsName, ec);
-      fs::remove(fs::path(dir) / kCheckpointName, ec);
-    }
+    if (opts.overwrite) remove_earlier_run(dir);
     write_text_file(dir, "config.toml", cfg.resolved_toml);
   });
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));

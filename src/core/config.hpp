@@ -78,4 +78,7 @@ Config parse_config(const std::string& toml_text, const std::string& source_name
 // All keys with their help text, for `sphdisk run --help-config`.
 std::string config_reference();
 
+// Levenshtein distance, for "did you mean" suggestions.
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
 }  // namespace sphdisk

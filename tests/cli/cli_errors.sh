@@ -78,6 +78,11 @@ for f in "$regressions"/*.hdf5; do
   expect_error "fuzz-ic-$(basename "$f")" "$(basename "$f")" -- run "$(dirname "$0")/../validation/small_ring.toml" --set "problem.initial_conditions=\"$f\"" -o "$work/o4"
 done
 
+# Command-line mistakes: exit 2, one line, and the closest command or option.
+expect_error mistyped-subcommand "did you mean 'run'" -- rnu "$(dirname "$0")/../validation/small_ring.toml"
+expect_error mistyped-option "did you mean '--overwrite'" -- run "$(dirname "$0")/../validation/small_ring.toml" --overwrit
+expect_error unknown-option "not expected" -- analyze "$work/none.hdf5" --frobnicate
+
 # Existing outputs are never overwritten without --overwrite.
 small=(--set problem.particles=500 --set 'output.tau=[0.0182]' --set output.progress_interval=0)
 "$sphdisk" run -q "${small[@]}" -o "$work/run" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
@@ -94,6 +99,27 @@ expect_error truncated-ic "cut.hdf5" -- run "$(dirname "$0")/../validation/small
 mkdir -p "$work/cutrun" && cp "$work/run/checkpoint.hdf5" "$work/cutrun/checkpoint.hdf5"
 truncate -s $(( $(stat -c %s "$work/cutrun/checkpoint.hdf5") / 2 )) "$work/cutrun/checkpoint.hdf5"
 expect_error truncated-checkpoint "checkpoint.hdf5" -- resume "$work/cutrun"
+
+# --overwrite removes what the earlier run wrote, so two runs' outputs never mix: a run with two
+# outputs replaced by one with one leaves no snapshot_002, no report of the old run, and files of
+# other names untouched.
+"$sphdisk" run -q "${small[@]}" --set 'output.tau=[0.0182, 0.0184]' -o "$work/mix" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
+mkdir -p "$work/mix/report" && echo "mine" > "$work/mix/notes.txt"
+"$sphdisk" run -q "${small[@]}" --overwrite -o "$work/mix" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
+if [ -f "$work/mix/snapshot_001.hdf5" ] && [ ! -e "$work/mix/snapshot_002.hdf5" ] && [ ! -e "$work/mix/report" ] &&
+   [ "$(cat "$work/mix/notes.txt")" = "mine" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --overwrite left the earlier run's outputs or removed another file: $(ls "$work/mix")"
+fi
+
+# A run stopped by run.max_steps leaves a checkpoint that `resume` continues.
+"$sphdisk" run -q "${small[@]}" --set run.max_steps=2 -o "$work/short" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
+if [ -f "$work/short/checkpoint.hdf5" ] && "$sphdisk" resume -q "$work/short" > /dev/null 2>&1; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: a run stopped by run.max_steps left no checkpoint to resume"
+fi
 
 echo "cli errors: $passed passed, $failed failed"
 [ $failed -eq 0 ]
