@@ -187,6 +187,13 @@ std::string ring_comparison_table(const RingComparison& c) {
                 100 * c.core_sigma_noself_bias, c.vr_l1,
                 c.sigma_scatter);
   os << line;
+  // One verdict: is what is left of the error the sampling noise of N random particles?
+  const double rate = c.tau > 0 ? c.tau_fit / c.tau : 0.0;
+  const bool rate_ok = std::abs(rate - 1.0) <= 0.02;
+  const bool noise_ok = c.sampling_floor > 0 && c.mass_sigma_l1 <= 1.5 * c.sampling_floor;
+  std::snprintf(line, sizeof line, "verdict: spreading rate %s 2%% of the analytic one; mass profile %s 1.5x its sampling floor\n",
+                rate_ok ? "within" : "NOT within", noise_ok ? "within" : "NOT within");
+  os << line;
   return os.str();
 }
 
