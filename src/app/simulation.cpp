@@ -753,7 +753,12 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   RunState state;
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   Particles<kDim> p = read_checkpoint(path, state, comm);
-  const Config cfg = parse_config(state.config_toml, path, overrides);
+  // A checkpoint written before sph.viscous_force existed ran eq. 6's conservative form (then the
+  // only one): it continues with it, unless the user overrides it.
+  std::vector<std::string> all_overrides = overrides;
+  if (state.config_toml.find("viscous_force") == std::string::npos)
+    all_overrides.insert(all_overrides.begin(), "sph.viscous_force=\"conservative\"");
+  const Config cfg = parse_config(state.config_toml, path, all_overrides);
   check_list_reuse(comm, cfg);
   apply_run_options(cfg, opts);
   warn_if_threads_share_cpus(comm, opts);

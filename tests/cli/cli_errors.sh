@@ -121,5 +121,20 @@ else
   failed=$((failed + 1)); echo "FAIL: a run stopped by run.max_steps left no checkpoint to resume"
 fi
 
+# A checkpoint written before sph.viscous_force existed continues with the conservative form it ran
+# (the fixture of format 2): the same diagnostics as when it is named.
+fixture="$(dirname "$0")/../fixtures/checkpoint_format2.hdf5"
+for v in implicit conservative; do
+  mkdir -p "$work/old_$v" && cp "$fixture" "$work/old_$v/checkpoint.hdf5"
+  extra=(); [ $v = conservative ] && extra=(--set 'sph.viscous_force="conservative"')
+  "$sphdisk" resume -q "$work/old_$v" --set run.max_steps=2 "${extra[@]}" > /dev/null 2>&1
+done
+if [ -s "$work/old_implicit/diagnostics.csv" ] &&
+   [ "$(cut -d, -f1-10 "$work/old_implicit/diagnostics.csv")" = "$(cut -d, -f1-10 "$work/old_conservative/diagnostics.csv")" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: an old checkpoint did not continue with the conservative viscous force"
+fi
+
 echo "cli errors: $passed passed, $failed failed"
 [ $failed -eq 0 ]
