@@ -26,6 +26,8 @@ double self_weight(const SnapshotMeta& meta) {
   return with_kernel(kernel_from_name(name), [](auto k) { return KernelAt<decltype(k), 2>(1.0).W(0.0); });
 }
 
+double annulus_area(const RingBin& b) { return std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo); }
+
 }  // namespace
 
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max) {
@@ -85,7 +87,7 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   c.core_sigma_noself_bias = ncore ? core_noself / static_cast<double>(ncore) : 0.0;
   double num = 0, den = 0, vmax = 0, mnum = 0, mden = 0;
   for (RingBin& b : c.bins) {
-    b.sigma_mass /= std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo);
+    b.sigma_mass /= annulus_area(b);
     b.sigma_ana_annulus = sol.annulus_mean_surface_density(b.r_lo, b.r_hi, c.tau);
     mnum += std::abs(b.sigma_mass - b.sigma_ana_annulus);
     mden += b.sigma_ana_annulus;
@@ -106,12 +108,12 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   // Sampling floor: bin b's count is binomial (N, p_b), p_b its share of the analytic mass in the
   // bins, so E|n_b - N p_b| ~ sqrt(2 N p_b (1 - p_b) / pi) particles of mass M / N.
   double bins_mass = 0;
-  for (const RingBin& b : c.bins) bins_mass += b.sigma_ana_annulus * std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo);
+  for (const RingBin& b : c.bins) bins_mass += b.sigma_ana_annulus * annulus_area(b);
   const double n_total = static_cast<double>(p.size());
   double floor_num = 0;
   if (bins_mass > 0 && n_total > 0)
     for (const RingBin& b : c.bins) {
-      const double area = std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo);
+      const double area = annulus_area(b);
       const double share = b.sigma_ana_annulus * area / bins_mass;
       floor_num += std::sqrt(2.0 * n_total * share * (1.0 - share) / std::numbers::pi) * (bins_mass / n_total) / area;
     }
@@ -174,6 +176,7 @@ std::string ring_comparison_table(const RingComparison& c) {
   }
   // The spreading rate and the mass profile against its sampling floor say whether the run is
   // right; the SPH-estimate and per-particle figures follow, named as what they are.
+  const double rate = c.tau > 0 ? c.tau_fit / c.tau : 0.0;
   std::snprintf(line, sizeof line,
                 "spreading rate: best-fit viscous time tau*/tau = %.4f (1 = the analytic rate; annulus-mass L1 %.4f at tau*)\n"
                 "L1 error of binned mass surface density (annulus mass / area): %.4f; sampling floor of %zu random particles %.4f (ratio %.2f)\n"
@@ -182,13 +185,12 @@ std::string ring_comparison_table(const RingComparison& c) {
                 "(0.9-1.1 r0) %+.1f%%, without the self term m W(0, h) %+.1f%%\n"
                 "L1 error of binned v_r (particles' own, with their epicycles; |v_r| >= 20%% of max): %.4f\n"
                 "per-particle Sigma scatter (rms relative): %.4f\n",
-                c.tau > 0 ? c.tau_fit / c.tau : 0.0, c.mass_sigma_l1_at_fit, c.mass_sigma_l1, c.particles, c.sampling_floor,
+                rate, c.mass_sigma_l1_at_fit, c.mass_sigma_l1, c.particles, c.sampling_floor,
                 c.sampling_floor > 0 ? c.mass_sigma_l1 / c.sampling_floor : 0.0, c.vr_drift_l1, c.sigma_l1, 100 * c.core_sigma_bias,
                 100 * c.core_sigma_noself_bias, c.vr_l1,
                 c.sigma_scatter);
   os << line;
   // One verdict: is what is left of the error the sampling noise of N random particles?
-  const double rate = c.tau > 0 ? c.tau_fit / c.tau : 0.0;
   const bool rate_ok = std::abs(rate - 1.0) <= 0.02;
   const bool noise_ok = c.sampling_floor > 0 && c.mass_sigma_l1 <= 1.5 * c.sampling_floor;
   std::snprintf(line, sizeof line, "verdict: spreading rate %s 2%% of the analytic one; mass profile %s 1.5x its sampling floor\n",

@@ -135,7 +135,8 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
   const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
   const double Pr_i = Pressure ? d.p_over_rho2[i] : 0.0;
   Mat<D> Ci;
-  if constexpr (Consistent) Ci = as_double(d.correction[i]);
+  double log_rho_i = 0.0;
+  if constexpr (Consistent) Ci = as_double(d.correction[i]), log_rho_i = d.log_rho[i];
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
     Vec<D> g = (xi - d.pos[j]) * static_cast<double>(F[q]);
@@ -145,7 +146,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
     if constexpr (Consistent) {
       Vec<D> to_i, to_j;
-      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), d.log_rho[j] - d.log_rho[i], g, to_i, to_j);
+      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), d.log_rho[j] - log_rho_i, g, to_i, to_j);
       ai += to_i * (mj * d.inv_rho[j]);
       if (j < d.writable) d.acc[j] += to_j * (mi * inv_rho_i);
     } else {
