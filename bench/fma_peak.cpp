@@ -1,5 +1,6 @@
-// The CPU's double-precision FMA peak per core, measured here rather than quoted: issue 7 asks what
-// fraction of it the force loop reaches (docs/performance.md). Twelve independent chains of fused
+// The CPU's double-precision FMA peak per core, measured here rather than quoted, against which the
+// force loop's floating-point rate is judged (docs/performance.md,
+// "Floating-point rate of the force loop"). Twelve independent chains of fused
 // multiply-adds (more than FMA latency x throughput on current x86 cores, so the chains never wait on
 // each other), each FMA 2 FLOPs per lane, on the widest vectors the CPU has (AVX-512: 8 lanes, AVX2:
 // 4). The values converge to 1 (a <- 0.9999999 a + 1e-7, factors hidden from the compiler): no

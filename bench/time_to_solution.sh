@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Time to solution of the ring (issue 7's must-show): the same initial conditions run from tau =
+# Time to solution of the ring: the same initial conditions run from tau =
 # 0.018 to 0.09 with each integrator named, one after the other on the same machine, with the
 # binned Sigma error at tau = 0.09 (annulus mass, docs/validation.md) and the work done.
 # Usage: bench/time_to_solution.sh [--particles N] [--threads T] [--set KEY=VALUE ...] [LABEL=SETTINGS ...]

@@ -4,7 +4,7 @@
     make_test_run.py OUTDIR [--particles N] [--taus 0.018,0.036,...] [--noise 0.05] [--seed 1]
                             [--scaling] [--no-diagnostics]
 
-The layout mirrors what `sphdisk run` writes (docs: shared/design/formats.md):
+The layout mirrors what `sphdisk run` writes (docs/formats.md, "Snapshot files"):
 OUTDIR/snapshot_000.hdf5 (tau = first value of --taus), snapshot_001.hdf5, ... in the
 GADGET-4/SWIFT-like HDF5 layout, plus OUTDIR/diagnostics.csv and, with --scaling, OUTDIR/scaling.csv.
 
@@ -112,7 +112,7 @@ def run_parameters(args):
 
 
 def smoothing_length(n):
-    """Support 2h = 0.09 r0 at N = 1e4, scaled as N^-1/2 (physics.md sec. 4)."""
+    """Support 2h = 0.09 r0 at N = 1e4, scaled as N^-1/2 (docs/physics.md sec. 4)."""
     return 0.045 * math.sqrt(1e4 / n)
 
 
@@ -126,7 +126,7 @@ def attr_value(v):
 
 
 def write_header(f, n, tau, accreted_mass):
-    """formats.md header. yt (4.1) needs NumPart_ThisFile, MassTable, Time, BoxSize (non-zero) and
+    """/Header of docs/formats.md. yt (4.1) needs NumPart_ThisFile, MassTable, Time, BoxSize (non-zero) and
     NumFilesPerSnapshot; Code must be a fixed-length string. No cosmology attributes or Flag_* needed."""
     h = f.create_group("Header")
     npart = np.array([n, 0, 0, 0, 0, 0], dtype=np.uint64)

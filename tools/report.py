@@ -3,9 +3,9 @@
 
     report.py DIR [--out DIR/report]
 
-DIR holds snapshot_000.hdf5, snapshot_001.hdf5, ... (layout: shared/design/formats.md), optionally
-diagnostics.csv, timers.json and scaling.csv. Figures follow the paper's sec. 5 (Figs. 3, 5-10);
-the analytic viscous ring is P98 eqs. 11-12 in code units (G = M = 1).
+DIR holds snapshot_000.hdf5, snapshot_001.hdf5, ... (layout: docs/formats.md, "Snapshot files"),
+optionally diagnostics.csv, timers.json and scaling.csv. Figures follow the paper's sec. 5
+(Figs. 3, 5-10); the analytic viscous ring is P98 eqs. 11-12 in code units (G = M = 1).
 Exit status: 0 on success, 2 when DIR is missing or holds no snapshots, 1 on any other error
 (always with a one-line message on stderr).
 """

@@ -1,6 +1,6 @@
 #pragma once
-// Global diagnostics of the particle set (physics.md sec. 4 "Diagnostics"): mass, energies and the
-// angular momentum L_z, summed with the deterministic reduction of the parallel layer.
+// Global diagnostics of the particle set (docs/physics.md sec. 4 "Diagnostics"): mass, energies and
+// the angular momentum L_z, summed with the deterministic reduction of the parallel layer.
 #include "core/particles.hpp"
 
 namespace sphdisk {

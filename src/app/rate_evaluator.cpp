@@ -32,19 +32,17 @@ constexpr double kHaloMargin = 1.25;
 
 // Partial evaluations with at most this fraction of the particles active work on the involved
 // particles (evaluate_involved), unless these are more than kInvolvedMost of all. Either way the
-// bits are the same. Measured on the 100k ring (2 threads, 40 block cycles, interleaved runs,
-// docs/performance.md): evaluations with under 1% active took 3.3-3.8 ms instead of 7.2-7.8 ms;
-// with 1-25% active the involved particles are 30-70% of all, and copying them, searching them
-// and the occasional repeat cost more than the work over all particles they spare (16-26 ms
-// against 15-23 ms), hence the 2%.
+// bits are the same. With few active particles this halves an evaluation; with more, the involved
+// particles are a large part of all, and copying them, searching them and the occasional repeat
+// cost more than the work over all particles they spare (docs/performance.md, "Block timesteps").
 constexpr double kInvolvedActive = 0.02;
 constexpr double kInvolvedMost = 0.5;
 
 // Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (8^3 in 3D), ~1,000
-// particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is reused only
-// inside the tile (measured 2026-11-30, 100k ring, one thread, constant h, serial build: 0.20 /
-// 0.16 / 0.15 s per evaluation with tiles of 4 / 8 / 16 cells). The tiles also span the supports of all but the widest 1% of
-// particles, whose pairs reaching beyond the next tile are evaluated after the others. The tile
+// particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is
+// reused only inside the tile, and larger tiles reuse more of it (docs/performance.md,
+// "Neighbour search and pair lists"). The tiles also span the supports of all but the widest 1%
+// of particles, whose pairs reaching beyond the next tile are evaluated after the others. The tile
 // size depends on the particles only, never on the thread count (it sets the order of the sums).
 template <int D>
 constexpr int kMinTileCells = D == 2 ? 16 : 8;

@@ -70,7 +70,8 @@ class RateEvaluator {
   double global_max(double x) const { return domain_ ? domain_->max(x) : x; }
 
   // Whether acc includes the point mass's gravity (default) or only the hydrodynamic part (for an
-  // integrator that substeps gravity itself, integrate/substep_leapfrog.cpp).
+  // integrator that substeps gravity itself: the r-RESPA leapfrog, integrate/leapfrog.cpp, and the
+  // block leapfrog, integrate/block_leapfrog.cpp).
   void include_gravity(bool yes) { gravity_ = yes; }
   bool includes_gravity() const { return gravity_; }
 
@@ -88,7 +89,8 @@ class RateEvaluator {
   // Frees what every evaluation builds anew (cells, lists, tile order, scratch) and forgets lists
   // kept for reuse: called before the particles are reordered, which would force all of it to be
   // rebuilt anyway. The reorder's copies of the fields then do not come on top of it (the peak
-  // memory of a run, docs/performance.md). The next evaluation allocates it again.
+  // memory of a run, docs/performance.md, "Memory per particle"). The next evaluation allocates
+  // it again.
   void release_rebuilt_memory();
   std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
 
@@ -100,7 +102,7 @@ class RateEvaluator {
   // particles given new rates (gradient sums, search radii) is also freed after each use, so that
   // its pages come fresh for each evaluation but it is not held with the rest (the peak memory).
   // The force loop's 1/rho, sized by all particles, is kept: refaulting it in every partial
-  // evaluation of block steps made them 16% slower.
+  // evaluation would slow block steps (docs/performance.md, "Memory per particle").
   bool lean() const { return storage_ == PairStorage::Rescan; }
 
   double smoothing_length() const { return h_; }
@@ -200,8 +202,8 @@ class RateEvaluator {
   std::size_t halo_widenings_ = 0;
   std::size_t smoothing_length_solves_ = 0;
   std::size_t smoothing_length_sums_ = 0;
-  // Each particle's kernel sums in the current h solve, added up after it: a shared counter that
-  // every particle's solve incremented (one atomic add each) made the threads contend for its cache line.
+  // Each particle's kernel sums in the current h solve, added up after it: not one shared counter,
+  // whose cache line the threads would contend for.
   std::vector<std::uint32_t> solve_sums_;
   double list_skin_ = 0;
   ListReuse<D> reuse_;

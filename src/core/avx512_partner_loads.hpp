@@ -1,12 +1,11 @@
 #pragma once
 // Eight partners' records read by index into one vector per component, without gather
 // instructions, for the AVX-512 list loops (physics/list_sums.cpp, list_factors.cpp,
-// neighbours/candidate_scan.cpp). Gathers are slow on AMD's AVX-512 CPUs: on an AMD EPYC (Zen 5)
-// the force list loop with gathers took 23.4 ms (100k ring, one thread) against 12.1 ms for its
-// AVX2 form, which loads each partner's record and transposes; with these loads 13.6 ms. So are
-// masked loads there: with the factors' masked load kept for the partial round only, 9.1 ms
-// (docs/performance.md, session 20), so these loops mask only the last, partial round. Loads and
-// shuffles give the same values as gathers, so the bits do not change.
+// neighbours/candidate_scan.cpp). Gathers are slow on AMD's AVX-512 CPUs (the force list loop
+// with gathers ran slower there than its AVX2 form, which loads each partner's record and
+// transposes), and so are masked loads, so these loops mask only the last, partial round
+// (docs/performance.md, "Vector loops (AVX-512 and AVX2)"). Loads and shuffles give the same
+// values as gathers, so the bits do not change.
 #include "core/vector_isa.hpp"
 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH

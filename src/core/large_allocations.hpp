@@ -3,8 +3,8 @@
 // mapping an allocation on its own rises to the largest array freed so far, after which arrays of
 // that size come from its heap, whose freed pages mostly stay with the process: with scratch that
 // is freed and allocated again at changing sizes (the pair loops without stored lists, whose point
-// is to fit), the peak memory crept up cycle after cycle (200k ring, six block cycles: 93.5 MB
-// against 86.3 MB with a fixed threshold; docs/performance.md).
+// is to fit), the peak memory would creep up cycle after cycle (docs/performance.md,
+// "Memory per particle").
 #include <cstddef>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -15,8 +15,8 @@ namespace sphdisk {
 // Arrays of at least `bytes` are mapped on their own from now on and unmapped when freed. Smaller
 // ones come from the heap, which keeps up to 32x that much free memory at its top: fixing the
 // mapping threshold also fixes the trim threshold, at 128 KiB, and then each freed array of
-// 128 KiB-1 MiB went back to the system and came back as fresh pages (100k ring, 20 block cycles:
-// 510k page faults against 228k; the block integrator's sorts 1.4x and the reorders 2x slower).
+// 128 KiB-1 MiB would go back to the system and come back as fresh pages, page faults that slow
+// the block integrator's sorts and the reorders.
 inline void map_large_allocations(std::size_t bytes) {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, static_cast<int>(bytes));

@@ -1,11 +1,10 @@
 #pragma once
 // std::vector for buffers whose every element is written before it is read (list entries, pair
 // factors, per-particle scratch): resize leaves the new elements of trivial types uninitialised
-// instead of zero-filling them. The zero-fill is a serial memset on the thread that resizes; in
-// a block timestep's many partial evaluations, whose lists change size every time, such fills were
-// a few percent of the run's time on the main thread while the other threads waited (perf of a
-// 100k ring run on two threads, docs/performance.md). Types with default member initialisers
-// (Vec, Mat) are still initialised by them.
+// instead of zero-filling them. The zero-fill is a serial memset on the thread that resizes, while
+// the other threads wait; a block timestep's many partial evaluations, whose lists change size
+// every time, would pay it again and again (docs/performance.md, "Serial passes and threads").
+// Types with default member initialisers (Vec, Mat) are still initialised by them.
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -16,10 +15,9 @@ namespace sphdisk {
 // kLeaveUnset: for types with default member initialisers that are still plain data (Mat, Vec and
 // structs of them: trivially copyable and destructible, so the allocation itself holds their
 // objects, C++20 implicit object creation), resize constructs nothing at all, not even those
-// initialisers. For per-particle sums that a parallel loop zeroes anyway: the serial zero-fill of a
-// fresh buffer (with its page faults) was 2.8% of a two-thread block run's main thread without
-// stored lists, which frees the gradient sums after every evaluation (perf, docs/performance.md
-// session 31).
+// initialisers. For per-particle sums that a parallel loop zeroes anyway: without stored lists the
+// gradient sums are freed after every evaluation, and a serial zero-fill of each fresh buffer (with
+// its page faults) would hold up the main thread (docs/performance.md, "Serial passes and threads").
 template <class T, bool kLeaveUnset = false>
 struct DefaultInitAllocator : std::allocator<T> {
   static_assert(!kLeaveUnset || (std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>),

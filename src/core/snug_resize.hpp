@@ -1,8 +1,8 @@
 #pragma once
 // Resizing arrays that are rebuilt at about the same size again and again (neighbour lists, pair
 // factors, particle fields with ghosts appended): when one must grow, it grows by 1/16 beyond what
-// is needed instead of doubling (libstdc++'s growth), which had left half of the interaction lists
-// and pair factors unused (measured: capacity exactly 2x the entries after the second evaluation).
+// is needed instead of doubling (libstdc++'s growth), which can leave half of the interaction lists'
+// and pair factors' capacity unused from the second evaluation on.
 #include <cstddef>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Time integrators. Both advance (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
 //  - KDK leapfrog (default): second order, symplectic for the gravity part; no secular radial drift
-//    of Kepler orbits (physics.md sec. 3, "accuracy trap").
+//    of Kepler orbits (docs/physics.md sec. 3, "accuracy trap").
 //  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity
 //    substepped per particle inside it (leapfrog.cpp).
 //  - block: respa with individual power-of-two hydrodynamic steps (block_leapfrog.cpp).

@@ -1,4 +1,4 @@
-// Kick-drift-kick leapfrog (physics.md sec. 3). Viscous accelerations depend on velocity, so the
+// Kick-drift-kick leapfrog (docs/physics.md sec. 3). Viscous accelerations depend on velocity, so the
 // rates at the end of the drift are evaluated with the predicted velocity v_half + a_old dt/2 and
 // then used for the closing kick (as in Phantom).
 //

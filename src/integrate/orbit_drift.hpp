@@ -1,8 +1,8 @@
 #pragma once
 // The point mass's part of a block step for all particles at once (block_leapfrog.cpp): each
 // particle moved over dt in the point mass's field (drift_in_point_mass_field) and its stored
-// stress turned with its orbit (turned_with_orbit). This loop ran over every particle at every tick
-// where some step ends, scalar, and took 12% of a block run (8.1 of 69.9 s on the 100k ring). Over
+// stress turned with its orbit (turned_with_orbit). This loop runs over every particle at every
+// tick where some step ends, so it must not be scalar (docs/performance.md, "Block timesteps"). Over
 // one tick nearly every particle needs a single gravity substep, so the loop is written for that
 // case without branches, which compiles to vector code (in 2D dispatched at run time to AVX2 or
 // AVX-512, core/vector_isa.hpp); the few particles that need more substeps are then moved by the

@@ -1,5 +1,5 @@
 #pragma once
-// Explicit timestep criteria (physics.md sec. 3, Phantom's defaults):
+// Explicit timestep criteria (docs/physics.md sec. 3, Phantom's defaults):
 //   orbital  C_orb / Omega_i, Omega_i = sqrt(G M / r_i^3)   (dominates for the ring)
 //   force    C_force sqrt(h_i / |a_i|)
 //   viscous  C_visc h_i^2 / max(nu, nu_bulk)

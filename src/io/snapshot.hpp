@@ -1,7 +1,7 @@
 #pragma once
-// HDF5 snapshots in the GADGET-4 / SWIFT layout of shared/design/formats.md, read by yt, SPLASH and
-// h5py tools. Datasets come from the particle field table (fields flagged kSnapshot); particles
-// are written in ID order, so the file does not depend on memory order, threads or ranks.
+// HDF5 snapshots in the GADGET-4 / SWIFT layout of docs/formats.md ("Snapshot files"), read by yt,
+// SPLASH and h5py tools. Datasets come from the particle field table (fields flagged kSnapshot);
+// particles are written in ID order, so the file does not depend on memory order, threads or ranks.
 // Files are written atomically: to a temporary name, flushed to disk, then renamed.
 #include <string>
 #include <utility>

@@ -46,7 +46,7 @@ RowSearch<D> row_search(const CellGrid<D>& g, const Vec<D>& x, double radius, co
 // The slots [s0, s1) of the row of cells through `cell` (its x coordinate ignored) that the chord
 // of q's circle (sphere) reaches at the row's nearest distance from x; s0 >= s1: nothing to scan.
 // Each row's range is a chain of a square root and divisions (in 2D row_ranges forms up to eight
-// at once where the CPU has AVX-512: candidate_rows.hpp).
+// at once where the CPU has AVX-512: candidate_rows.cpp).
 template <int D>
 std::pair<std::uint32_t, std::uint32_t> row_range(const CellGrid<D>& g, const RowSearch<D>& q, std::array<int, D> cell) {
   // The squared distance from x to the row's band of cells (its y, and in 3D z, extent).
@@ -84,10 +84,10 @@ void row_ranges(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std
 // beyond the radius are skipped. With x-fastest cell order the cells of a row are adjacent in
 // `sorted`, so each row is one contiguous range. Every point within the radius is visited (the
 // chord has a margin for the round-off of the cell coordinates); points beyond it may be. On the
-// ring this cuts the candidates by about a third against whole rows (docs/performance.md). With
-// `after` (x's own slot) only the candidates after it in cell order: the rest of x's own row of
-// cells, then the rows above (and in 3D the layers above), so that each pair is seen from its first
-// particle only (P98's symmetric sequential variant, Fig. 4).
+// ring this cuts the candidates by about a third against whole rows (docs/performance.md,
+// "Neighbour search and pair lists"). With `after` (x's own slot) only the candidates after it in
+// cell order: the rest of x's own row of cells, then the rows above (and in 3D the layers above), so
+// that each pair is seen from its first particle only (P98's symmetric sequential variant, Fig. 4).
 template <int D, class F>
 void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radius, F&& f,
                               const std::uint32_t* after = nullptr) {
@@ -99,8 +99,8 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radi
   };
   std::array<int, D> r = q.c;
   // The rows y0..y1 (at r's other coordinates), kMaxRows at a time: their ranges first, then the
-  // scans. The chains of different rows overlap only when no scan lies between them (the neighbour
-  // search 13% faster on the 100k ring).
+  // scans. The chains of different rows overlap only when no scan lies between them
+  // (docs/performance.md, "Neighbour search and pair lists").
   auto rows = [&](int y0, int y1) {
     if constexpr (D < 2) return;  // rows along y exist from 2D on
     std::array<std::uint32_t, kMaxRows> s0, s1;

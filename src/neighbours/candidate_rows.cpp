@@ -1,7 +1,7 @@
 // The ranges of slots of a 2D point's rows of cells (candidate_ranges.hpp, row_ranges): row_range
 // row by row, or, where the CPU has AVX-512, eight rows at once. Each row costs a square root,
-// products, compares and two cell coordinates; row by row that was ~10% of an adaptive-h ring
-// evaluation (the search visits ~5 rows per particle). Both paths give the same ranges bit for
+// products, compares and two cell coordinates, and the search visits ~5 rows per particle
+// (docs/performance.md, "Vector loops (AVX-512 and AVX2)"). Both paths give the same ranges bit for
 // bit: the same operations in the same order, contraction off in this file (src/CMakeLists.txt),
 // compared by the unit tests (CandidateRows.*).
 #include <algorithm>

@@ -4,8 +4,8 @@
 // AMReX). Built in O(N) by a counting sort. Inside a cell, particles are ordered by x, then by
 // particle ID, so neighbour order, and hence every floating-point sum, depends only on positions
 // and IDs — not on memory order, thread count or rank count. Ordered by x (not by ID alone), the
-// runs reordered in this order keep neighbours closer in memory: the pair loops of a 100k ring
-// step ran ~17% faster than with ID order inside cells (docs/performance.md).
+// runs reordered in this order keep neighbours closer in memory, and the pair loops run faster
+// than with ID order inside cells (docs/performance.md, "Neighbour search and pair lists").
 //
 // The cells are those of a Lattice (corner, cell size), which every rank of a distributed run shares;
 // a rank's grid covers only the lattice cells around its own particles (origin = the lattice index
@@ -51,8 +51,8 @@ struct CellGrid {
   }
   // The cell coordinate of x along axis k, clamped to [0, dims[k]). Inline, and floor only for a
   // negative quotient: for t >= 0, floor(t) is the truncation, and x86-64's baseline has no
-  // rounding instruction, so std::floor was a call, in every row of every search (~3% of a
-  // step's instructions). The same cells as floor((x - lo) / cell_size) - origin.
+  // rounding instruction, so std::floor would be a call in every row of every search. The same
+  // cells as floor((x - lo) / cell_size) - origin.
   int coord(double x, int k) const { return coord_in_cells((x - lo[k]) / cell_size, k); }
   // The same for t = (x - lo) / cell_size given (for callers that may round t differently, e.g.
   // multiply by the inverse cell size, and allow for it).

@@ -2,9 +2,9 @@
 // The particles a partial evaluation (block timesteps: only the first `active` particles get new
 // rates) involves: the active ones and every inactive particle that may interact with one. With
 // block timesteps most evaluations have a few hundred active particles among 1e5 or more, and
-// working on all of them (cell grid, tile order, lists, per-particle passes) cost ~8 ms per such
-// evaluation on the 100k ring against well under 1 ms for the active particles' own pairs
-// (docs/performance.md). SWIFT restricts its tasks to active cells for the same reason.
+// working on all of them (cell grid, tile order, lists, per-particle passes) costs far more than
+// the active particles' own pairs (docs/performance.md, "Block timesteps"). SWIFT restricts its
+// tasks to active cells for the same reason.
 //
 // An inactive particle j is involved when it lies within radius[i] of an active particle i (the
 // caller's search radius around i: its h solve's candidates and its own support) or an active

@@ -242,8 +242,8 @@ std::size_t half_list_inside(const Half& half, NeighbourLists& src, std::size_t 
 }
 
 // Every half list is left inside its gather list (NeighbourLists::within), where the pair loops
-// read it: no half list is copied or held apart from the gather lists (they were two copies of
-// every pair, and the peak memory of a build). The gather lists are read as they lie in memory,
+// read it: no half list is copied or held apart from the gather lists (that would be a second copy
+// of every pair, at the peak memory of a build). The gather lists are read as they lie in memory,
 // list k being particle order[k]'s where they were searched in tile order (in_tile_order), else
 // particle k's; the near lists are numbered in tile order (near list s lies in gather list s, or
 // in order[s]), and the far lists (few) are joined in tile order.

@@ -48,8 +48,8 @@ enum class TileWrites { Forward, AllNeighbours };
 struct PairLists {
   // Half lists of every particle of the grid, stored in tile order: list s is particle order[s]'s,
   // so that the pair loops, which visit the particles in that order, read the lists (and the pair
-  // factors, numbered like them) front to back instead of hopping through memory (pair loops
-  // 15-35% faster on the 100k ring, docs/performance.md).
+  // factors, numbered like them) front to back instead of hopping through memory
+  // (docs/performance.md, "Neighbour search and pair lists").
   NeighbourLists near, far;
   std::vector<std::uint32_t> order;       // particles in tile order
   std::vector<std::size_t> tile_start;    // tile t holds order[tile_start[t] .. tile_start[t + 1])
@@ -128,8 +128,8 @@ void for_each_pair_list(const PairLists& pl, F&& f, std::string_view trace_label
     const std::size_t base = pl.near.total();
     if (far.total() == 0) return;
     // Serial (far pairs may share particles). The offsets are cumulative, so a run of lists without
-    // far pairs is skipped at once: few lists have any, and a test of every list was a serial pass
-    // over all particles in each pair loop.
+    // far pairs is skipped at once: few lists have any, and a test of every list would be a serial
+    // pass over all particles in each pair loop.
     constexpr std::size_t kRun = 1024;
     const std::size_t n = pl.order.size();
     for (std::size_t s0 = 0; s0 < n; s0 += kRun) {

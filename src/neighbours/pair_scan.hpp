@@ -2,10 +2,10 @@
 // Pair loops without stored lists (sph.pair_lists = "rescan"): each pair loop finds every
 // particle's partners anew in the cell grid, as SWIFT does, so no neighbour list or pair factor is
 // kept (the lists and their factors are most of the memory of a run with stored lists,
-// docs/performance.md); the price is the search repeated by the loops and the kernel gradient
-// recomputed for every pair. The velocity-gradient and force loops can share one search
-// (for_each_list_joined): a tile's lists are kept from its gradient pass to its force pass, about
-// two tile rows later (tile_jobs.hpp), so only the tiles in between hold lists.
+// docs/performance.md, "Memory per particle"); the price is the search repeated by the loops and
+// the kernel gradient recomputed for every pair. The velocity-gradient and force loops can share
+// one search (for_each_list_joined): a tile's lists are kept from its gradient pass to its force
+// pass, about two tile rows later (tile_jobs.hpp), so only the tiles in between hold lists.
 //
 // Each pair with |x_i - x_j| < 2 max(h_i, h_j) and a writable particle is evaluated once, by its
 // owner: the first particle in cell order when the pair lies within its own support 2 h, else the
@@ -96,7 +96,7 @@ class ScannedPairs {
     visit_far([&](std::uint32_t i, bool far) { return keep_then(far_kept, i, far); }, count);
     jobs_->run_joined([&](std::uint32_t t) {
       // Written where they grow on this thread, then kept at their size (growing each tile's own
-      // lists moved them ~2% of a block run, and left them up to twice their size).
+      // lists would move them as they grow and leave them up to twice their size).
       thread_local KeptLists growing;
       growing.clear();
       std::size_t pairs = 0;
@@ -148,14 +148,14 @@ class ScannedPairs {
   // tiles and schedules them once per evaluation.
   bool begin_loop() const {
     const bool count = !counted_;  // in the first loop only: one atomic add per tile, not per list
-    counted_ = true;                // (threads adding per list contended for the counter's cache line)
+    counted_ = true;                // (per list, threads would contend for the counter's cache line)
     if (!summarised_) summarise_tiles();
     return count;
   }
 
   // The first loop notes which particles own a pair (each particle is visited by one thread); the
-  // loops after it skip the others, whose tests and scans would find the same nothing (the force
-  // loop of a 100k ring's block run ~14% faster against the gradient loop, 2 threads).
+  // loops after it skip the others, whose tests and scans would find the same nothing
+  // (docs/performance.md, "Block timesteps").
   template <class F>
   std::size_t visit_particle(std::uint32_t i, bool far, FactorUse use, bool count, F&& f) const {
     if (!count && !owns_pairs_[i]) return 0;
@@ -165,8 +165,8 @@ class ScannedPairs {
   }
 
   // Far pairs: serial, in tile order, in the tiles that hold a particle reaching beyond the
-  // adjacent tiles (a serial test of every particle in each loop was ~3% of a 2-thread block run,
-  // the other thread idle).
+  // adjacent tiles only (a serial test of every particle in each loop would keep the other threads
+  // idle).
   template <class Visit>
   void visit_far(Visit&& visit, bool count) const {
     std::size_t far_pairs = 0;
@@ -186,9 +186,9 @@ class ScannedPairs {
   // Once per evaluation (h does not change between the loops), in parallel, for each tile: whether
   // a particle of it reaches beyond the adjacent tiles (far_tile_), and whether none of them can
   // own a pair (idle_tile_: no writable particle in it and none within the widest support of its
-  // particles' bounding box). With block timesteps most tiles lie far from every active particle:
-  // a test of each of their particles in every loop was 2.5 ms of a 100k ring's evaluations with
-  // 0.2% active (8.5 ms each, 13 of them per block cycle).
+  // particles' bounding box). With block timesteps most tiles lie far from every active particle,
+  // and a test of each of their particles in every loop would be a large part of an evaluation
+  // with few active (docs/performance.md, "Block timesteps").
   void summarise_tiles() const {
     const std::size_t ntiles = tiles_.tile_start.size() - 1, m = tiles_.writable;
     const bool filtered = !writable_.slot_prefix.empty();

@@ -5,8 +5,9 @@
 // its pair factors, in the order and on the schedule in which for_each_pair_list would call that
 // loop. With one smoothing length the density loop (physics/density.hpp) is that loop; it is then
 // spared its own pass over the lists and its loads of every partner's position
-// (docs/performance.md, session 34). The lists are build_half_neighbour_lists' (neighbour_lists.hpp:
-// the same partners in the same order, so the same bits), held per tile (NeighbourLists::tiled);
+// (docs/performance.md, "Neighbour search and pair lists"). The lists are
+// build_half_neighbour_lists' (neighbour_lists.hpp: the same partners in the same order, so the
+// same bits), held per tile (NeighbourLists::tiled);
 // their factors are held per tile beside them (TileFactors). No far pairs: tiles span the radius.
 #include <cstddef>
 #include <cstdint>

@@ -52,9 +52,9 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 
 // v[to(k)] = old v[from[k]] for k < from.size() (to: a permutation of the positions in from).
 // The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
-// this thread alone. (Moving them a word at a time, so that the copy holds 8 bytes per value and
-// not a tensor's 32, was tried in session 27: it cost the block integrator's sorts time, and once
-// the rescan mode freed its scratch after each use the sorts no longer lay at its peak memory.)
+// this thread alone. (Moving them a word at a time would hold 8 bytes per value rather than a
+// tensor's 32, but slows the block integrator's sorts, and the sorts do not lie at the rescan
+// mode's peak memory: docs/performance.md, "Memory per particle".)
 template <class T, class A, class Index, class To>
 void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::string_view trace_label) {
   static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");

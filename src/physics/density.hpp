@@ -1,5 +1,5 @@
 #pragma once
-// Density by summation (P98 eq. 4 with f = rho; physics.md sec. 2), self term included:
+// Density by summation (P98 eq. 4 with f = rho; docs/physics.md sec. 2), self term included:
 //   rho_i = sum_j m_j W(|x_i - x_j|, h_i).
 // In 2D rho is the surface density Sigma.
 // With one global h the sum is a pair loop: each pair is visited once (pair_lists.hpp), its

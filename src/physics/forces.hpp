@@ -3,13 +3,13 @@
 //   viscous:  a_i += sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij                (eq. 6)
 //             or, by default, its consistent form (physics_params.hpp, ViscousForce):
 //             a_i += sum_j V_j [S_j - S_i + S_i ln(rho_j / rho_i)] . C_i grad_i W_ij
-//   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (physics.md 2)
+//   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (docs/physics.md sec. 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
 //   gravity:  a_i -= G M x_i / |x_i|^3   (left out when the integrator substeps it)
 // With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
 // The conservative form's pair terms are antisymmetric in i <-> j, so linear momentum is conserved
-// to round-off (the consistent form's to the discretisation error). Angular
-// momentum is not exactly conserved (the viscous pair force is not along r_ij; physics.md 2).
+// to round-off (the consistent form's to the discretisation error). Angular momentum is not
+// exactly conserved (the viscous pair force is not along r_ij; docs/physics.md sec. 2).
 // Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
 // Writes: acc, du_dt (the pressure work, where the particles hold it: with an energy equation).
 #include <cmath>

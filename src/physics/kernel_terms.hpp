@@ -21,7 +21,8 @@ KernelSums kernel_sums(const double* dist, const double* mass, double inv_h, std
 
 // dist[k] = sqrt(dist2[k]): the candidates' distances from the squared ones the search hands over,
 // dispatched the same way (square roots are correctly rounded, so every path gives the same bits).
-// Two-wide, this loop held over half of the solve's samples on an AMD EPYC with AVX-512.
+// Two-wide, this loop would dominate the solve's time (docs/performance.md,
+// "Vector loops (AVX-512 and AVX2)").
 void square_roots(const double* dist2, std::size_t n, double* dist);
 
 }  // namespace sphdisk

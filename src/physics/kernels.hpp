@@ -1,6 +1,6 @@
 #pragma once
 // SPH smoothing kernels W(r, h) = sigma_D h^-D w(q), q = r/h, compact support 2h
-// (physics.md sec. 2). Each kernel gives w(q) and w'(q)/q; the latter is what the gradient needs,
+// (docs/physics.md sec. 2). Each kernel gives w(q) and w'(q)/q; the latter is what the gradient needs,
 // since grad_i W_ij = (x_i - x_j) / r * dW/dr = (x_i - x_j) sigma_D h^-(D+2) w'(q)/q, and it stays
 // finite at q = 0.
 #include <numbers>

@@ -53,8 +53,8 @@ template <class K>
     _mm512_storeu_pd(dw_norm + q, dw_normj);
   }
   // Whole vectors here too (the lanes past the list's end repeat its first partner, avx512::round8),
-  // into scratch: a scalar remainder loop for the last n % 8 partners took a quarter of this
-  // function's time, waiting on its division. The list's own n factors are then copied out.
+  // into scratch: a scalar remainder loop for the last n % 8 partners would wait on its divisions.
+  // The list's own n factors are then copied out.
   thread_local std::vector<float> factor_buffer;
   const std::size_t whole = (n + 7) & ~std::size_t{7};
   float* F = scratch_for(factor_buffer, whole);

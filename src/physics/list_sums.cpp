@@ -159,9 +159,9 @@ struct Round {
 }
 #endif
 
-// The scalar gradient loop compiled for AVX2: a pair's eight sums in two instructions, not four
-// (-32% samples against the h solve's in `perf record` of a 100k ring run on an AMD EPYC). (The
-// force loop compiled so ran 10% slower there: it has its own AVX2 form below.)
+// The scalar gradient loop compiled for AVX2: a pair's eight sums in two instructions, not four.
+// (The force loop compiled so was slower: it has its own AVX2 form below; docs/performance.md,
+// "Vector loops (AVX-512 and AVX2)".)
 [[gnu::target("avx2")]] void gradient_list_avx2(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                                                 std::span<const float> F, GradientSums<2>& sum_i) {
   add_gradient_list_scalar(d, i, js, F, sum_i);

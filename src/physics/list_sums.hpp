@@ -7,10 +7,10 @@
 // partners are gathered and their terms formed at once, then added pair by pair in list order; with
 // AVX2 only, the scalar gradient loop runs compiled for AVX2 and the forces four partners at a time.
 // Both paths give the same bits: the same operations in the same order (i's sum takes the partners
-// in list order; a partner's sum gets one addition per pair, as before), with floating-point
-// contraction off in list_sums.cpp, and the tests compare the two. The vector path covers the
-// ring's case (no pressure, no force correction, double-precision stress); the rest runs the scalar
-// loop.
+// in list order; a partner's sum gets one addition per pair, as in the scalar loop), with
+// floating-point contraction off in list_sums.cpp, and the tests compare the two. The vector path
+// covers the ring's case (no pressure, no force correction, double-precision stress); the rest runs
+// the scalar loop.
 #include <cstddef>
 #include <cstdint>
 #include <span>

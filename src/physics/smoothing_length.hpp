@@ -59,11 +59,12 @@ struct SmoothingLengthResult {
 // The start value of a particle's next solve. GADGET and SWIFT drift h between solves with
 // dh/dt = -(h/D) div v; here h is extrapolated from the particle's last three solutions instead
 // (quadratic at equal intervals: exact while h changes quadratically in time), which needs neither
-// the time step nor div v. On the 100k ring the first Newton step from the previous h alone was
-// 1e-3 to 1e-2 of h, above the solve's 1e-4 tolerance, so nearly every solve took two density sums;
-// from the extrapolated start, one (docs/performance.md). The start only sets where Newton begins:
-// the solution is the same to ~(1e-4)^2 relative. Where intervals differ (a particle changing its
-// time bin, Runge-Kutta stages) the extrapolation is poorer, hence limited to 5% of h.
+// the time step nor div v. From the previous h alone the first Newton step on the ring is 1e-3 to
+// 1e-2 of h, above the solve's 1e-4 tolerance, so nearly every solve would take two density sums;
+// from the extrapolated start, one (docs/performance.md, "Smoothing-length solve"). The start only
+// sets where Newton begins: the solution is the same to ~(1e-4)^2 relative. Where intervals differ
+// (a particle changing its time bin, Runge-Kutta stages) the extrapolation is poorer, hence
+// limited to 5% of h.
 // History (Particles::h_prev, h_prev2, zero in new particles): h_prev > 0 is the solution before h,
 // h_prev < 0 says h is a solution with none before it, h_prev = 0 that h is an initial guess;
 // h_prev2 > 0 is the solution before h_prev.

@@ -1,12 +1,12 @@
 #pragma once
 // Velocity gradient, shear and viscous stress of each particle (P98 eqs. 2, 7, 8).
 //   V_ab,i     = sum_j (m_j / rho_j) (v_a,j - v_a,i) W_,b           (eq. 8, W_,b = d W_ij / d x_i,b)
-//   sigma_ab,i = V_ab,i + V_ba,i - (2/3) delta_ab V_gg,i             (eq. 7; 2/3 also in 2D, physics.md 1)
+//   sigma_ab,i = V_ab,i + V_ba,i - (2/3) delta_ab V_gg,i             (eq. 7; 2/3 also in 2D, docs/physics.md sec. 1)
 //   S_i        = t_i / rho_i = nu sigma_i + nu_bulk delta tr(V_i)    (eq. 2 divided by rho)
 // Storing the kinematic stress S = t / rho lets the force loop use eq. 6 as written:
 //   m_j (nu_j sigma_j / rho_i + nu_i sigma_i / rho_j) = m_j (S_j / rho_i + S_i / rho_j).
-// Viscous heating du_i/dt = S_i : V_i (physics.md sec. 2: sigma:V, not sigma:sigma/2) makes the
-// kinetic + internal energy exactly conserved together with the force of forces.hpp.
+// Viscous heating du_i/dt = S_i : V_i (docs/physics.md sec. 2: sigma:V, not sigma:sigma/2) makes
+// the kinetic + internal energy exactly conserved together with the force of forces.hpp.
 // Pair sums visit each pair once (pair_lists.hpp).
 // Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part, where the particles
 // hold it: with an energy equation).

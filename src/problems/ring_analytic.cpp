@@ -1,4 +1,4 @@
-// Analytic solution of the viscously spreading ring, P98 eqs. 10-12 (physics.md section 4).
+// Analytic solution of the viscously spreading ring, P98 eqs. 10-12 (docs/physics.md section 4).
 //
 // Everything is written in terms of the exponentially scaled Bessel function
 // Ĩ_nu(z) = e^{-z} I_nu(z): I_nu itself overflows a double for z > ~710 (z = 2x/tau reaches
@@ -29,7 +29,7 @@ constexpr double kInvGamma5_4 = 1.103262651320837257439782;
 constexpr double kInvGamma1_4 = 0.2758156628302093143599455;
 
 // Reduced series (z/2)^{-nu} e^{-z} I_nu(z) = e^{-z} sum_k (z^2/4)^k / (k! Gamma(k + nu + 1)),
-// from the ascending series of physics.md sec. 4 with the (z/2)^nu factor taken out. Taking it
+// from the ascending series of docs/physics.md sec. 4 with the (z/2)^nu factor taken out. Taking it
 // out keeps x^{-1/4} Ĩ_{1/4}(2x/tau) finite as x -> 0 (no 0 * inf) in eq. 11.
 // inv_gamma = 1/Gamma(nu + 1); nu must not be a negative integer (k + nu = 0 would divide by 0).
 // For z < 25 all terms for k > -nu have one sign and the sum is at most ~e^z ~ 7e10, so there is
@@ -48,7 +48,7 @@ double reduced_series_sum(double nu, double inv_gamma, double z) {
   return sum;
 }
 
-// Hankel asymptotic expansion (physics.md sec. 4):
+// Hankel asymptotic expansion (docs/physics.md sec. 4):
 //   Ĩ_nu(z) ~ (2 pi z)^{-1/2} sum_k (-1)^k a_k(nu) z^{-k},
 //   a_k = prod_{j=1..k} (4 nu^2 - (2j-1)^2) / (k! 8^k).
 // It depends on nu only through nu^2; the difference I_{-nu} - I_nu = (2/pi) sin(nu pi) K_nu is
@@ -131,7 +131,7 @@ double integrate_panel(double a, double b, double tau, double abs_tol, int depth
 }
 
 // integral_a^b x S(x, tau) dx for 0 <= a <= b. The ring is close to a Gaussian of variance
-// tau/2 around x ~ 1 (physics.md sec. 4), and S <= 1.11 tau^{-1/4} exp(-(1-x)^2/tau), so the part
+// tau/2 around x ~ 1 (docs/physics.md sec. 4), and S <= 1.11 tau^{-1/4} exp(-(1-x)^2/tau), so the part
 // beyond x_hi = 1 + sqrt(60 tau) is below ~e^{-60} of the total and the upper limit is clipped
 // there (unless the whole interval lies beyond it). Initial panels are at most sqrt(tau)/2 wide
 // so that no GK15 panel can step over the peak; adaptive bisection does the rest (e.g. the

@@ -1,17 +1,17 @@
 // Analytic solution of the viscously spreading ring (Pringle 1981; Lynden-Bell & Pringle 1974),
 // as used for the SPH accretion-disc test of P98 section 5.1 (eqs. 10-12). See
-// shared/design/physics.md section 4 for the code-unit conventions (G = M = 1).
+// docs/physics.md section 4 for the code-unit conventions (G = M = 1).
 #pragma once
 
 namespace sphdisk {
 
 // Switch point between the power series (z < kScaledBesselSwitch) and the Hankel asymptotic
 // expansion (z >= kScaledBesselSwitch) in scaled_bessel_i. Both branches reach ~1e-15 relative
-// accuracy here for |nu| <= 3 (physics.md sec. 4); exposed so tests can probe continuity.
+// accuracy here for |nu| <= 3 (docs/physics.md sec. 4); exposed so tests can probe continuity.
 inline constexpr double kScaledBesselSwitch = 25.0;
 
 // e^{-z} I_nu(z) for real order nu (negative orders like -3/4 included) and z >= 0.
-// Power series for small z, Hankel asymptotic expansion for large z (physics.md sec. 4).
+// Power series for small z, Hankel asymptotic expansion for large z (docs/physics.md sec. 4).
 // Accurate to ~2e-15 relative for |nu| <= 3 and z in [1e-6, 1e5] (validated against mpmath),
 // except next to the zeros that I_nu has for non-integer nu < -1, where only absolute accuracy holds.
 // Returns the limit at z = 0 (1 for nu = 0, 0 for nu > 0 or negative integers, otherwise an

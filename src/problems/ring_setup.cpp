@@ -16,7 +16,7 @@ namespace {
 constexpr std::size_t kGrid = 200000;  // radial grid points of the tabulated CDF
 
 // Radial range holding all but a negligible part of the mass: the profile is close to a Gaussian
-// of variance tau/2 around r0 (physics.md sec. 4).
+// of variance tau/2 around r0 (docs/physics.md sec. 4).
 void radial_range(const RingSetup& s, double& r_lo, double& r_hi) {
   const double r0 = s.solution.ring_radius;
   const double width = std::sqrt(0.5 * s.tau_start) * r0;
@@ -70,8 +70,8 @@ Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares
     const double u = uniform01(gen);
     const double q = s.stratified ? (static_cast<double>(i) + u) / static_cast<double>(n) : u;
     const double ri = inverse_cdf(q);
-    // Uniform azimuth in both modes. (A golden-angle Vogel spiral was tried: Keplerian shear turns
-    // it into dense radial bands within a few orbits, far worse than random azimuths.)
+    // Uniform azimuth in both modes. (Not a golden-angle Vogel spiral: Keplerian shear turns it into
+    // dense radial bands within a few orbits, far worse than random azimuths.)
     const double phi = 2.0 * std::numbers::pi * uniform01(gen);
     const double c = std::cos(phi), sn = std::sin(phi);
     const double v_phi = 1.0 / std::sqrt(ri);  // Kepler, G M = 1

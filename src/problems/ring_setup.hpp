@@ -1,5 +1,5 @@
 #pragma once
-// Initial conditions of the viscously spreading ring (P98 sec. 5.2; physics.md sec. 4): particles
+// Initial conditions of the viscously spreading ring (P98 sec. 5.2; docs/physics.md sec. 4): particles
 // "placed stochastically on Kepler orbits" following the analytic surface density at tau_start.
 // Radii come from the inverse CDF of 2 pi r Sigma(r, tau_start) on a fine grid, azimuths are
 // uniform, velocities are Keplerian plus the analytic radial velocity. A seeded generator makes

@@ -1,20 +1,18 @@
 #!/usr/bin/env bash
-# A short fuzz run for CI (issue 5), as deterministic as the targets allow: builds the libFuzzer
+# A short fuzz run for CI, as deterministic as the targets allow: builds the libFuzzer
 # targets with clang, replays every input that once crashed a parser (tests/fuzz_regressions/), then
 # mutates the seed corpora for a fixed number of runs from a fixed seed. Any crash, sanitizer report,
 # leak of a non-UserError exception or multi-line error message fails the test; the crashing input
 # is kept under build/fuzz/artifacts/ to be added to tests/fuzz_regressions/.
 # Deterministic: a fixed seed alone is not enough. With address randomisation the first executions
-# of the same inputs already cover different edges (1738 vs 1740), and libFuzzer re-reads its corpus
-# directory every second (-reload), so two runs took different mutation paths (the CI run of
-# 785fb0b found a crasher the run of 7452878 had missed with the same sources). With
-# `setarch -R` and -reload=0, and the targets run from a temporary directory with relative paths
-# and a fixed environment (fuzz() below), the configuration run ends with the same coverage,
-# features and corpus in every run and in two checkouts at different paths (cov 2458 ft 9144 corp
-# 367, 2026-11-30). The snapshot run reads each input in a forked child (io/hdf5_util.cpp), whose
-# fate under memory limits can depend on the machine's state: of six runs, five ended with cov 818
-# ft 1341 and one with 821 / 1299 (since the writers record the code version, session 12: 823 /
-# 1277 in two runs out of two). Where the system refuses to turn randomisation off (some
+# of the same inputs already cover different edges, and libFuzzer re-reads its corpus directory
+# every second (-reload), so two runs with the same sources can take different mutation paths and
+# find different crashers. With `setarch -R` and -reload=0, and the targets run from a temporary
+# directory with relative paths and a fixed environment (fuzz() below), the configuration run ends
+# with the same coverage, features and corpus in every run and in checkouts at different paths. The
+# snapshot run reads each input in a forked child (io/hdf5_util.cpp), whose fate under memory
+# limits can depend on the machine's state, so its coverage may differ slightly between runs
+# (docs/reliability.md, "Fuzzing"). Where the system refuses to turn randomisation off (some
 # container seccomp profiles), the run goes on without it and says so.
 #   usage: short_fuzz_run.sh SOURCE_DIR [CONFIG_RUNS] [SNAPSHOT_RUNS]
 set -euo pipefail

@@ -85,7 +85,7 @@ def accuracy_rows(md):
 
 
 def test_analytic():
-    """report.Ring against the numbers in physics.md sec. 4."""
+    """report.Ring against the numbers in docs/physics.md sec. 4."""
     ring = report.Ring(tau=0.09, mass=1.0, r0=1.0, nu=1.0)
     for x, want in ((0.2, -49.0), (0.8, -12.4), (1.0, 0.76), (1.5, 34.0)):
         got = float(ring.vr_over_nu(x))

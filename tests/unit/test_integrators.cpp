@@ -1,6 +1,6 @@
 // Time integration: with nu = 0 the ring's particles are pure Kepler orbits and must stay on their
-// circles (physics.md sec. 3 "accuracy trap"); rate evaluation and stepping give the same bits for
-// any thread count.
+// circles (docs/physics.md sec. 3 "accuracy trap"); rate evaluation and stepping give the same bits
+// for any thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,7 +30,7 @@ struct Drift {
 };
 
 // Secular radial drift of Kepler orbits (nu = 0), per orbit at r0, over `orbits` orbits. The
-// guiding-centre radius is the low-noise measure of radial drift (physics.md sec. 4); the
+// guiding-centre radius is the low-noise measure of radial drift (docs/physics.md sec. 4); the
 // orbit-averaged semi-major axis also catches energy drift.
 Drift kepler_drift(const IntegratorParams& ip, std::size_t n, double orbits) {
   const RingSetup s = small_ring(n, 0.0);

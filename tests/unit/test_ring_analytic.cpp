@@ -1,4 +1,4 @@
-// Unit tests for the analytic viscous-ring solution (P98 eqs. 10-12, physics.md section 4).
+// Unit tests for the analytic viscous-ring solution (P98 eqs. 10-12, docs/physics.md section 4).
 
 #include "problems/ring_analytic.hpp"
 
@@ -153,7 +153,7 @@ TEST(ScaledBesselI, EdgeCases) {
   EXPECT_LE(rel_err(big, 1.0 / std::sqrt(2.0 * std::numbers::pi * 1e7)), 1e-7);
 }
 
-// physics.md sec. 4: nu = 4.778e-5 in code units; t(tau = 0.018) = 31.39, t(0.09) = 157.0.
+// docs/physics.md sec. 4: nu = 4.778e-5 in code units; t(tau = 0.018) = 31.39, t(0.09) = 157.0.
 TEST(RingSolution, TimeTauConversion) {
   const RingSolution ring{1e-10, 1.0, 4.778e-5};
   EXPECT_NEAR(ring.time_of_tau(0.018), 31.39, 0.005);
@@ -231,7 +231,7 @@ TEST(RingSolution, ContinuousAcrossBesselSwitch) {
   }
 }
 
-// Facts quoted in physics.md sec. 4 (tau = 0.09, r0 = 1), checked to the digits given.
+// Facts quoted in docs/physics.md sec. 4 (tau = 0.09, r0 = 1), checked to the digits given.
 TEST(RingSolution, RadialVelocityMatchesDesignNotes) {
   const RingSolution ring{1.0, 1.0, 1.0};
   EXPECT_NEAR(ring.radial_velocity(0.2, 0.09), -49.0, 0.5);
@@ -351,7 +351,7 @@ TEST(RingSolution, MassConservation) {
   }
 }
 
-// physics.md sec. 4: mass inside r < 0.05 is 9e-7 (tau = 0.09) and 1.4e-5 (tau = 0.126), times m.
+// docs/physics.md sec. 4: mass inside r < 0.05 is 9e-7 (tau = 0.09) and 1.4e-5 (tau = 0.126), times m.
 TEST(RingSolution, InnerMassMatchesDesignNotes) {
   const RingSolution ring{1e-10, 1.0, 4.778e-5};
   EXPECT_NEAR(ring.enclosed_mass(0.05, 0.09) / ring.disc_mass, 9e-7, 0.5e-7);
