@@ -1,4 +1,4 @@
-// sphdisk command-line interface (docs/formats.md, "Command line"): run, analyze, report.
+// sphdisk command-line interface (docs/formats.md, "Command line"): run, resume, analyze, report, sweep.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>

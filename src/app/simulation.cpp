@@ -213,9 +213,8 @@ Setup make_setup(const Config& cfg) {
 }
 
 // Refuse up front what cannot fit: ~200 bytes of fields and scratch per particle plus the
-// neighbour lists and pair factors. A rough estimate: measured peaks (docs/performance.md, session
-// 25) at 60 neighbours are 850 bytes per particle with adaptive h and leapfrog steps and 1,254 with
-// block steps (1M ring), against 1,220 estimated here.
+// neighbour lists and pair factors. A rough estimate, close to the measured peaks with stored lists
+// at 60 neighbours (docs/performance.md, "Memory per particle").
 void check_memory(std::size_t particles, double neighbours, bool adaptive) {
   // Fields ~224 B, lists + pair factors 12 B per neighbour, adaptive smoothing's candidate lists
   // 4 B per candidate (1.1^D more than neighbours).
@@ -549,14 +548,14 @@ RunSummary Runner::advance() {
         (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0)) {
       ScopedPhase timer(timers_, "reorder");
       // Without stored lists (the mode for runs that would not fit), what the evaluations rebuild
-      // after a reorder is freed first: otherwise more pages stay with the process (200k ring, two
-      // block cycles: peak 88 MB with this, 99 MB without). Stored lists keep their memory (their
+      // after a reorder is freed first: otherwise more pages stay with the process and raise its
+      // peak (docs/performance.md, "Memory per particle"). Stored lists keep their memory (their
       // peak is elsewhere, and rebuilding them in fresh pages is slower). Of the reorder's grid only
       // the order is kept.
       if (rates_.lean()) rates_.release_rebuilt_memory();
       const std::vector<std::uint32_t> order = std::move(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
       // The copies in parallel (serial, the other threads waited); exact-size copies, not a copy
-      // back into each field (par::permute_prefix), which left the peak of a 1M run 24 MB higher.
+      // back into each field (par::permute_prefix), which would raise the peak memory.
       p_.gather(order, [](std::size_t n, const auto& f) { par::for_each(n, f, "reorder", 4096); });
     }
     advance_.updates_at_step = rates_.particle_updates();
@@ -753,12 +752,18 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   RunState state;
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   Particles<kDim> p = read_checkpoint(path, state, comm);
-  // A checkpoint written before sph.viscous_force existed ran eq. 6's conservative form (then the
-  // only one): it continues with it, unless the user overrides it.
+  // A checkpoint records every key; one written before a key existed, or before its default
+  // changed, continues with what it ran then (unless the user overrides it): eq. 6's conservative
+  // form, and the leapfrog on stored lists (the defaults before block steps with pairs searched anew).
   std::vector<std::string> all_overrides = overrides;
-  if (state.config_toml.find("viscous_force") == std::string::npos)
-    all_overrides.insert(all_overrides.begin(), "sph.viscous_force=\"conservative\"");
+  for (const auto& [key, earlier] : {std::pair{"viscous_force", "sph.viscous_force=\"conservative\""},
+                                     std::pair{"scheme", "integrator.scheme=\"leapfrog\""},
+                                     std::pair{"pair_lists", "sph.pair_lists=\"stored\""}})
+    if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);
   const Config cfg = parse_config(state.config_toml, path, all_overrides);
+  // Later checkpoints record what this run continues with, overrides included, so that a second
+  // resume keeps them.
+  state.config_toml = cfg.resolved_toml;
   check_list_reuse(comm, cfg);
   apply_run_options(cfg, opts);
   warn_if_threads_share_cpus(comm, opts);

@@ -36,10 +36,10 @@ struct Config {
   std::string viscous_force = "consistent";  // consistent | conservative (physics/physics_params.hpp)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
-  std::string pair_lists = "stored";  // stored | rescan (rate_evaluator.hpp, PairStorage)
+  std::string pair_lists = "rescan";  // rescan | stored (rate_evaluator.hpp, PairStorage)
   double list_skin = 0;            // neighbour-list reuse (rate_evaluator.hpp); 0: lists built every evaluation
   // [integrator]
-  std::string scheme = "leapfrog";  // leapfrog | respa | block | rk23 | rk45
+  std::string scheme = "block";  // block | leapfrog | respa | rk23 | rk45
   double tolerance = 1e-6;
   double orbital_factor = 0.25, force_factor = 0.25, viscous_factor = 0.1, courant_factor = 0.3;
   double substep_factor = 0.05;     // respa: gravity substeps <= factor / Omega

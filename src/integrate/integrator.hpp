@@ -1,10 +1,10 @@
 #pragma once
-// Time integrators. Both advance (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
-//  - KDK leapfrog (default): second order, symplectic for the gravity part; no secular radial drift
+// Time integrators. Each advances (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
+//  - KDK leapfrog: second order, symplectic for the gravity part; no secular radial drift
 //    of Kepler orbits (docs/physics.md sec. 3, "accuracy trap").
 //  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity
 //    substepped per particle inside it (leapfrog.cpp).
-//  - block: respa with individual power-of-two hydrodynamic steps (block_leapfrog.cpp).
+//  - block (default): respa with individual power-of-two hydrodynamic steps (block_leapfrog.cpp).
 //  - embedded explicit Runge-Kutta with error control (the paper's "error tolerance of the time
 //    integrator", P98 sec. 5.3): Bogacki-Shampine 3(2) or Dormand-Prince 5(4).
 #include <functional>

@@ -14,8 +14,8 @@
 
 namespace sphdisk {
 
-// C_i = M_i^-1, or the identity where M_i is singular. M comes from gradient_sums_at
-// (viscous_stress.hpp), which sums it with the velocity gradient in one pass.
+// C_i = M_i^-1, or the identity where M_i is singular. M comes from the gradient pair terms
+// (list_sums.hpp, add_gradient_list), summed with the velocity gradient in one pass.
 template <int D>
 Mat<D> correction_from_moments(const Mat<D>& M) {
   Mat<D> C;

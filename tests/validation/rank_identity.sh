@@ -111,7 +111,8 @@ then echo "trace: one track per rank and thread, communication on both ranks"; e
 # Stopped on 3 ranks after 10 steps (checkpoint at step 7), resumed on 2 ranks: the same particles
 # as one uninterrupted process (the stored configuration differs, so the data are compared).
 args=(--set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0
-      --set physics.accretion_radius=0.85 --set checkpoint.every_steps=7)
+      --set physics.accretion_radius=0.85 --set checkpoint.every_steps=7
+      --set 'integrator.scheme="leapfrog"' --set 'sph.pair_lists="stored"')
 "$mpiexec" -np 3 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 \
   "$sphdisk" run -q "$(dirname "$0")/small_ring.toml" "${args[@]}" --set run.max_steps=10 --output "$work/stopped" > /dev/null
 "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 \
@@ -125,7 +126,7 @@ for f in snapshot_001.hdf5 snapshot_002.hdf5; do
 done
 # Neighbour-list reuse is single-process: refused over ranks with one line, before any output.
 if "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 "$sphdisk" run -q \
-     --set sph.list_skin=0.2 "$(dirname "$0")/small_ring.toml" --output "$work/reuse" > /dev/null 2> "$work/reuse.err"; then
+     --set sph.list_skin=0.2 --set 'sph.pair_lists="stored"' --set 'integrator.scheme="leapfrog"' "$(dirname "$0")/small_ring.toml" --output "$work/reuse" > /dev/null 2> "$work/reuse.err"; then
   echo "sph.list_skin over 2 ranks was accepted"; fail=1
 elif ! grep -q "sph.list_skin > 0 needs one process" "$work/reuse.err" || [ -e "$work/reuse" ]; then
   echo "sph.list_skin over 2 ranks: no one-line error, or output written: $(head -1 "$work/reuse.err")"; fail=1

@@ -21,7 +21,8 @@ done
 for t in 1 3; do
   OMP_NUM_THREADS=$t "$sphdisk" run -q --output "$work/reuse$t" \
     --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
-    --set 'sph.smoothing="constant"' --set sph.list_skin=0.2 "$(dirname "$0")/small_ring.toml" > /dev/null
+    --set 'sph.smoothing="constant"' --set sph.list_skin=0.2 --set 'sph.pair_lists="stored"' \
+    --set 'integrator.scheme="leapfrog"' "$(dirname "$0")/small_ring.toml" > /dev/null
 done
 for f in snapshot_001.hdf5 snapshot_002.hdf5; do
   if cmp -s "$work/reuse1/$f" "$work/reuse3/$f"; then echo "identical with list reuse: $f with 1 and 3 threads"; else echo "DIFFERENT with list reuse: $f with 1 and 3 threads"; fail=1; fi
