@@ -38,6 +38,7 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   c.tau = meta.tau;
   c.particles = p.size();
   c.accreted_mass = meta.accreted_mass;
+  c.initial_mass = meta.disc_mass;
   const double r0 = meta.ring_radius;
   const double width = (r_max - r_min) * r0 / nbins;
   c.bins.resize(static_cast<std::size_t>(nbins));
@@ -159,11 +160,32 @@ double annulus_mass_l1(const RingComparison& c, const RingSolution& sol, double 
   return den > 0 ? num / den : 0.0;
 }
 
+// The figures that judge a run (spreading rate, mass profile against its sampling floor, mass
+// budget) and one verdict lead; the binned table and the SPH-estimate figures follow, each named as
+// what it is.
 std::string ring_comparison_table(const RingComparison& c) {
   std::ostringstream os;
   char line[2048];
-  std::snprintf(line, sizeof line, "# tau = %.5f  N = %zu  mass = %.6e  accreted = %.6e\n", c.tau, c.particles, c.mass,
-                c.accreted_mass);
+  const double rate = c.tau > 0 ? c.tau_fit / c.tau : 0.0;
+  const double floor_ratio = c.sampling_floor > 0 ? c.mass_sigma_l1 / c.sampling_floor : 0.0;
+  std::snprintf(line, sizeof line,
+                "# tau = %.5f  N = %zu  mass = %.6e  accreted = %.6e\n"
+                "spreading rate: best-fit viscous time tau*/tau = %.4f (1 = the analytic rate)\n"
+                "mass profile: annulus-mass L1 %.4f = %.2fx the sampling floor %.4f of %zu random particles drawn from "
+                "the exact profile (L1 %.4f against the profile at tau*)\n",
+                c.tau, c.particles, c.mass, c.accreted_mass, rate, c.mass_sigma_l1, floor_ratio, c.sampling_floor,
+                c.particles, c.mass_sigma_l1_at_fit);
+  os << line;
+  if (c.initial_mass > 0) {
+    std::snprintf(line, sizeof line, "mass budget: (particles + accreted) / initial disc mass - 1 = %.2e\n",
+                  (c.mass + c.accreted_mass) / c.initial_mass - 1.0);
+    os << line;
+  }
+  // One verdict: is what is left of the error the sampling noise of N random particles?
+  const bool rate_ok = std::abs(rate - 1.0) <= 0.02;
+  const bool noise_ok = c.sampling_floor > 0 && c.mass_sigma_l1 <= 1.5 * c.sampling_floor;
+  std::snprintf(line, sizeof line, "verdict: spreading rate %s 2%% of the analytic one; mass profile %s 1.5x its sampling floor\n",
+                rate_ok ? "within" : "NOT within", noise_ok ? "within" : "NOT within");
   os << line;
   os << "#   r_lo     r_hi   count    Sigma_sph    Sigma_ana  rel.err   Sigma_mass Sigma_ann  rel.err      v_r_sph  v_r_drift      v_r_ana\n";
   for (const RingBin& b : c.bins) {
@@ -174,27 +196,13 @@ std::string ring_comparison_table(const RingComparison& c) {
                   b.vr_sph, b.vr_drift, b.vr_ana);
     os << line;
   }
-  // The spreading rate and the mass profile against its sampling floor say whether the run is
-  // right; the SPH-estimate and per-particle figures follow, named as what they are.
-  const double rate = c.tau > 0 ? c.tau_fit / c.tau : 0.0;
   std::snprintf(line, sizeof line,
-                "spreading rate: best-fit viscous time tau*/tau = %.4f (1 = the analytic rate; annulus-mass L1 %.4f at tau*)\n"
-                "L1 error of binned mass surface density (annulus mass / area): %.4f; sampling floor of %zu random particles %.4f (ratio %.2f)\n"
                 "L1 error of binned guiding-centre drift v_r: %.4f\n"
-                "L1 error of binned particle Sigma (SPH estimate with its self term, P98 Fig. 8): %.4f; in the core "
-                "(0.9-1.1 r0) %+.1f%%, without the self term m W(0, h) %+.1f%%\n"
+                "L1 error of binned particle Sigma (SPH estimate, P98 Fig. 8): %.4f; in the core (0.9-1.1 r0) %+.1f%%, "
+                "%+.1f%% without the self term m W(0, h), which pressureless, unordered particles never offset\n"
                 "L1 error of binned v_r (particles' own, with their epicycles; |v_r| >= 20%% of max): %.4f\n"
                 "per-particle Sigma scatter (rms relative): %.4f\n",
-                rate, c.mass_sigma_l1_at_fit, c.mass_sigma_l1, c.particles, c.sampling_floor,
-                c.sampling_floor > 0 ? c.mass_sigma_l1 / c.sampling_floor : 0.0, c.vr_drift_l1, c.sigma_l1, 100 * c.core_sigma_bias,
-                100 * c.core_sigma_noself_bias, c.vr_l1,
-                c.sigma_scatter);
-  os << line;
-  // One verdict: is what is left of the error the sampling noise of N random particles?
-  const bool rate_ok = std::abs(rate - 1.0) <= 0.02;
-  const bool noise_ok = c.sampling_floor > 0 && c.mass_sigma_l1 <= 1.5 * c.sampling_floor;
-  std::snprintf(line, sizeof line, "verdict: spreading rate %s 2%% of the analytic one; mass profile %s 1.5x its sampling floor\n",
-                rate_ok ? "within" : "NOT within", noise_ok ? "within" : "NOT within");
+                c.vr_drift_l1, c.sigma_l1, 100 * c.core_sigma_bias, 100 * c.core_sigma_noself_bias, c.vr_l1, c.sigma_scatter);
   os << line;
   return os.str();
 }
@@ -203,7 +211,7 @@ std::string ring_comparison_json(const RingComparison& c) {
   std::ostringstream os;
   os.precision(10);
   os << "{\n  \"tau\": " << c.tau << ",\n  \"particles\": " << c.particles << ",\n  \"mass\": " << c.mass
-     << ",\n  \"accreted_mass\": " << c.accreted_mass << ",\n  \"sigma_l1\": " << c.sigma_l1
+     << ",\n  \"accreted_mass\": " << c.accreted_mass << ",\n  \"initial_mass\": " << c.initial_mass << ",\n  \"sigma_l1\": " << c.sigma_l1
      << ",\n  \"mass_sigma_l1\": " << c.mass_sigma_l1 << ",\n  \"sampling_floor\": " << c.sampling_floor
      << ",\n  \"tau_fit\": " << c.tau_fit << ",\n  \"mass_sigma_l1_at_fit\": " << c.mass_sigma_l1_at_fit
      << ",\n  \"vr_l1\": " << c.vr_l1

@@ -44,6 +44,7 @@ struct RingComparison {
   double core_sigma_noself_bias = 0;  // the same for Sigma without its self term
   double mass = 0;             // mass in the particles
   double accreted_mass = 0;
+  double initial_mass = 0;      // the disc mass at the start (Header DiskMass; 0: not recorded)
 };
 
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0.05,
