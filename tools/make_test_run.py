@@ -2,7 +2,7 @@
 """Write a small synthetic sphdisk run directory (for tests of the analysis tools only).
 
     make_test_run.py OUTDIR [--particles N] [--taus 0.018,0.036,...] [--noise 0.05] [--seed 1]
-                            [--scaling] [--no-diagnostics]
+                            [--scaling] [--no-diagnostics] [--disc [--times 0,20,40] [--inflow V]]
 
 The layout mirrors what `sphdisk run` writes (docs/formats.md, "Snapshot files"):
 OUTDIR/snapshot_000.hdf5 (tau = first value of --taus), snapshot_001.hdf5, ... in the
@@ -10,7 +10,12 @@ GADGET-4/SWIFT-like HDF5 layout, plus OUTDIR/diagnostics.csv and, with --scaling
 
 Particles are drawn from the analytic viscous-ring solution (P98 eqs. 11-12, code units G = M = r0 = 1)
 at each tau: radii by inverse CDF of r Sigma(r), uniform azimuth, Keplerian + analytic radial velocity.
-`Density` is the analytic Sigma times (1 + noise * N(0, 1)), standing in for an SPH estimate.
+`Density` is the analytic Sigma times (1 + noise * N(0, 1)), standing in for an SPH estimate, and
+`Acceleration` is gravity plus the azimuthal part whose torque makes the guiding-centre drift
+2 j (x a_y - y a_x) equal the analytic v_r.
+With --disc the snapshots hold instead a power-law disc, Sigma ~ 1/r for 0.5 <= r <= 2, on Kepler
+orbits with a uniform radial velocity -V (--inflow, default 0; its drift is -V too), at the times of
+--times, with Header Problem = "disc" and no ring attributes.
 The analytic formulas are implemented here independently of tools/report.py on purpose, so the
 report test cross-checks the two.
 """
@@ -46,8 +51,12 @@ def parse_args(argv):
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--scaling", action="store_true", help="also write a synthetic scaling.csv")
     p.add_argument("--no-diagnostics", action="store_true", help="do not write diagnostics.csv")
+    p.add_argument("--disc", action="store_true", help="a power-law disc instead of the ring")
+    p.add_argument("--times", default="0,20,40", help="--disc: comma-separated snapshot times (code units)")
+    p.add_argument("--inflow", type=float, default=0.0, help="--disc: uniform inward radial velocity V")
     args = p.parse_args(argv)
     args.taus = [float(t) for t in args.taus.split(",") if t.strip()]
+    args.times = [float(t) for t in args.times.split(",") if t.strip()]
     return args
 
 
@@ -79,21 +88,55 @@ def accreted_fraction(tau):
     return inner / DISK_MASS
 
 
-def make_particles(rng, n, tau, noise):
-    """Positions, velocities and SPH-like density for n particles at viscous time tau."""
-    r = sample_radii(rng, n, tau)
+def kepler_particles(rng, r, vr):
+    """Positions, velocities and accelerations at radii r (uniform azimuth) on Kepler orbits with radial
+    velocity vr; the azimuthal acceleration vr / (2 r^1.5) gives the guiding-centre drift 2 j r a_phi = vr."""
+    n = len(r)
     phi = rng.uniform(0.0, 2 * math.pi, n)
     cphi, sphi = np.cos(phi), np.sin(phi)
     vphi = r**-0.5
-    vr = vr_ring(r, tau)
+    a_r, a_phi = -(r**-2.0), vr / (2.0 * r**1.5)
     pos = np.column_stack((r * cphi, r * sphi, np.zeros(n)))
     vel = np.column_stack((vr * cphi - vphi * sphi, vr * sphi + vphi * cphi, np.zeros(n)))
+    acc = np.column_stack((a_r * cphi - a_phi * sphi, a_r * sphi + a_phi * cphi, np.zeros(n)))
+    return pos, vel, acc
+
+
+def make_particles(rng, n, tau, noise):
+    """Positions, velocities, accelerations and SPH-like density for n particles at viscous time tau."""
+    r = sample_radii(rng, n, tau)
+    pos, vel, acc = kepler_particles(rng, r, vr_ring(r, tau))
     sigma = sigma_ring(r, tau) * (1.0 + noise * rng.standard_normal(n))
-    return pos, vel, sigma
+    return pos, vel, acc, sigma
+
+
+DISC_RANGE = (0.5, 2.0)   # power-law disc: Sigma = DISK_MASS / (3 pi r) on this range (r0 = 1)
+
+
+def sigma_disc(r):
+    return DISK_MASS / (3.0 * math.pi * r)
+
+
+def disc_accretion_rate(inflow):
+    """Mass flux 2 pi r Sigma V of the power-law disc: the same through every radius."""
+    return 2.0 * DISK_MASS * inflow / 3.0
+
+
+def make_disc_particles(rng, n, inflow, noise):
+    """The power-law disc: r Sigma is constant, so radii are uniform on DISC_RANGE."""
+    r = rng.uniform(*DISC_RANGE, n)
+    pos, vel, acc = kepler_particles(rng, r, np.full(n, -inflow))
+    sigma = sigma_disc(r) * (1.0 + noise * rng.standard_normal(n))
+    return pos, vel, acc, sigma
 
 
 def run_parameters(args):
     """Stand-in for the resolved configuration written to /Parameters."""
+    if args.disc:
+        return {"problem.particles": args.particles, "problem.seed": args.seed,
+                "problem.initial_conditions": "disc_initial.hdf5", "physics.dimension": 2,
+                "physics.accretion_radius": R_ACCRETION, "sph.kernel": "cubic", "integrator.scheme": "leapfrog",
+                "output.directory": os.path.basename(os.path.abspath(args.outdir))}
     return {
         "problem.name": "ring",
         "problem.particles": args.particles,
@@ -125,25 +168,26 @@ def attr_value(v):
     return fixed_string(v) if isinstance(v, str) else v
 
 
-def write_header(f, n, tau, accreted_mass):
+def write_header(f, n, time, accreted_mass, ring_attrs=None, problem=None):
     """/Header of docs/formats.md. yt (4.1) needs NumPart_ThisFile, MassTable, Time, BoxSize (non-zero) and
-    NumFilesPerSnapshot; Code must be a fixed-length string. No cosmology attributes or Flag_* needed."""
+    NumFilesPerSnapshot; Code must be a fixed-length string. No cosmology attributes or Flag_* needed.
+    ring_attrs: the ring's ViscousTime, KinematicViscosity, RingRadius, DiskMass; problem: Header Problem."""
     h = f.create_group("Header")
     npart = np.array([n, 0, 0, 0, 0, 0], dtype=np.uint64)
     h.attrs["NumPart_ThisFile"] = npart
     h.attrs["NumPart_Total"] = npart
     h.attrs["NumPart_Total_HighWord"] = np.zeros(6, dtype=np.uint32)
     h.attrs["MassTable"] = np.zeros(6, dtype=np.float64)
-    h.attrs["Time"] = np.float64(tau / (12.0 * NU_CODE))
+    h.attrs["Time"] = np.float64(time)
     h.attrs["Redshift"] = np.float64(0.0)
     h.attrs["BoxSize"] = np.float64(BOX_SIZE)
     h.attrs["NumFilesPerSnapshot"] = np.int32(1)
     h.attrs["Dimension"] = np.int32(2)
     h.attrs["Code"] = fixed_string("sphdisk")
-    h.attrs["ViscousTime"] = np.float64(tau)
-    h.attrs["KinematicViscosity"] = np.float64(NU_CODE)
-    h.attrs["RingRadius"] = np.float64(1.0)
-    h.attrs["DiskMass"] = np.float64(DISK_MASS)
+    if problem is not None:
+        h.attrs["Problem"] = fixed_string(problem)
+    for key, value in (ring_attrs or {}).items():
+        h.attrs[key] = np.float64(value)
     h.attrs["AccretedMass"] = np.float64(accreted_mass)
 
 
@@ -161,11 +205,12 @@ def write_parameters(f, params):
         g.attrs[key] = attr_value(value)
 
 
-def write_gas(f, pos, vel, sigma, mass_each, h):
+def write_gas(f, pos, vel, acc, sigma, mass_each, h):
     n = len(sigma)
     g = f.create_group("PartType0")
     g.create_dataset("Coordinates", data=pos.astype(np.float64))
     g.create_dataset("Velocities", data=vel.astype(np.float64))
+    g.create_dataset("Acceleration", data=acc.astype(np.float64))
     g.create_dataset("Masses", data=np.full(n, mass_each, dtype=np.float64))
     g.create_dataset("ParticleIDs", data=np.arange(1, n + 1, dtype=np.uint64))
     g.create_dataset("SmoothingLength", data=np.full(n, h, dtype=np.float64))
@@ -175,20 +220,41 @@ def write_gas(f, pos, vel, sigma, mass_each, h):
 def write_snapshot(path, rng, args, tau, params):
     n = args.particles
     frac = accreted_fraction(tau)
-    pos, vel, sigma = make_particles(rng, n, tau, args.noise)
+    pos, vel, acc, sigma = make_particles(rng, n, tau, args.noise)
+    ring = {"ViscousTime": tau, "KinematicViscosity": NU_CODE, "RingRadius": 1.0, "DiskMass": DISK_MASS}
     with h5py.File(path, "w") as f:
-        write_header(f, n, tau, frac * DISK_MASS)
+        write_header(f, n, tau / (12.0 * NU_CODE), frac * DISK_MASS, ring_attrs=ring)
         write_units(f)
         write_parameters(f, params)
-        write_gas(f, pos, vel, sigma, DISK_MASS * (1.0 - frac) / n, smoothing_length(n))
+        write_gas(f, pos, vel, acc, sigma, DISK_MASS * (1.0 - frac) / n, smoothing_length(n))
+
+
+def disc_accreted(args, time):
+    return disc_accretion_rate(args.inflow) * (time - args.times[0])
+
+
+def write_disc_snapshot(path, rng, args, time, params):
+    """A power-law disc snapshot: adaptive-like h ~ (m / Sigma)^1/2, Header Problem = "disc"."""
+    n = args.particles
+    accreted = disc_accreted(args, time)
+    pos, vel, acc, sigma = make_disc_particles(rng, n, args.inflow, args.noise)
+    mass_each = (DISK_MASS - accreted) / n
+    h = 1.3 * np.sqrt(mass_each / sigma_disc(np.hypot(pos[:, 0], pos[:, 1])))
+    with h5py.File(path, "w") as f:
+        write_header(f, n, time, accreted, problem="disc")
+        write_units(f)
+        write_parameters(f, params)
+        write_gas(f, pos, vel, acc, sigma, mass_each, h)
 
 
 DIAG_COLUMNS = ["step", "time", "tau", "dt", "particles", "mass", "accreted_mass", "kinetic_energy",
                 "internal_energy", "angular_momentum", "accreted_angular_momentum", "wall_time"]
 
 
-def write_diagnostics(path, taus, n, rows=25):
-    """Plausible per-step diagnostics: tiny drifts on top of the analytic disc's totals."""
+def write_diagnostics(path, taus, n, rows=25, time_of=lambda tau: tau / (12 * NU_CODE),
+                      accreted=lambda tau: DISK_MASS * accreted_fraction(tau)):
+    """Plausible per-step diagnostics: tiny drifts on top of the analytic disc's totals. taus: the
+    snapshots' viscous times (for the disc: their times, written in both columns)."""
     tau_grid = np.linspace(taus[0], taus[-1], rows)
     ke0 = 0.5 * DISK_MASS * 1.0  # v^2 ~ 1/r near r0
     l0 = DISK_MASS * 1.0
@@ -196,9 +262,9 @@ def write_diagnostics(path, taus, n, rows=25):
         w = csv.writer(fh)
         w.writerow(DIAG_COLUMNS)
         for step, tau in enumerate(tau_grid):
-            acc = DISK_MASS * accreted_fraction(tau)
+            acc = accreted(tau)
             s = (tau - taus[0]) / max(taus[-1] - taus[0], 1e-30)
-            w.writerow([step * 100, tau / (12 * NU_CODE), tau, 0.02, n, DISK_MASS - acc, acc,
+            w.writerow([step * 100, time_of(tau), tau, 0.02, n, DISK_MASS - acc, acc,
                         ke0 * (1 + 1e-3 * s), 1e-6 * ke0 * s, l0 * (1 - 1e-4 * s) - acc * 0.2,
                         acc * 0.2, 0.5 + 10.0 * s])
 
@@ -217,19 +283,26 @@ def write_scaling(path):
 
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    if not args.taus or args.particles < 1:
-        print("make_test_run.py: need at least one tau and one particle", file=sys.stderr)
+    if not (args.times if args.disc else args.taus) or args.particles < 1:
+        print("make_test_run.py: need at least one output time and one particle", file=sys.stderr)
         return 2
     os.makedirs(args.outdir, exist_ok=True)
     rng = np.random.default_rng(args.seed)
     params = run_parameters(args)
-    for i, tau in enumerate(args.taus):
-        write_snapshot(os.path.join(args.outdir, f"snapshot_{i:03d}.hdf5"), rng, args, tau, params)
+    outputs = args.times if args.disc else args.taus
+    for i, value in enumerate(outputs):
+        write = write_disc_snapshot if args.disc else write_snapshot
+        write(os.path.join(args.outdir, f"snapshot_{i:03d}.hdf5"), rng, args, value, params)
     if not args.no_diagnostics:
-        write_diagnostics(os.path.join(args.outdir, "diagnostics.csv"), args.taus, args.particles)
+        diag = os.path.join(args.outdir, "diagnostics.csv")
+        if args.disc:
+            write_diagnostics(diag, args.times, args.particles, time_of=lambda t: t,
+                              accreted=lambda t: disc_accreted(args, t))
+        else:
+            write_diagnostics(diag, args.taus, args.particles)
     if args.scaling:
         write_scaling(os.path.join(args.outdir, "scaling.csv"))
-    print(f"wrote {len(args.taus)} snapshots of {args.particles} particles to {args.outdir}")
+    print(f"wrote {len(outputs)} snapshots of {args.particles} particles to {args.outdir}")
     return 0
 
 
