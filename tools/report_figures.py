@@ -37,7 +37,7 @@ def plot_positions(parts, stats, r0, path):
     if len(xy) > MAX_POSITIONS:
         xy = xy[np.random.default_rng(SEED).choice(len(xy), MAX_POSITIONS, replace=False)]
     fig, ax = new_figure(COLUMN_SQUARE)
-    ax.plot(xy[:, 0], xy[:, 1], ls="none", marker=".", ms=0.5, mew=0, color="k", alpha=0.6)
+    ax.plot(xy[:, 0], xy[:, 1], ls="none", marker=".", ms=0.5, mew=0, color="k", alpha=0.6, rasterized=True)
     lim = 1.05 * float(np.nanquantile(np.abs(xy), 0.999)) if len(xy) else 1.0
     ax.set(xlim=(-lim, lim), ylim=(-lim, lim), aspect="equal", xlabel=X_LABEL, ylabel=Y_LABEL)
     shown = f"\n{len(xy)} shown" if len(xy) < stats.particles else ""
@@ -46,8 +46,9 @@ def plot_positions(parts, stats, r0, path):
 
 
 def particle_dots(ax, x, y):
-    """One small dot per particle, with a legend entry large enough to see."""
-    ax.plot(x, y, ls="none", marker=".", ms=1, mew=0, alpha=0.3, color="tab:blue")
+    """One small dot per particle (a bitmap inside the PDF: a million vector markers would make it
+    huge), with a legend entry large enough to see."""
+    ax.plot(x, y, ls="none", marker=".", ms=1, mew=0, alpha=0.3, color="tab:blue", rasterized=True)
     ax.plot([], [], ls="none", marker=".", ms=4, color="tab:blue", alpha=0.6, label="particles")
 
 
