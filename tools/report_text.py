@@ -126,9 +126,16 @@ def units_text(units):
     return ", ".join(parts) if parts else "not recorded (no /Units)"
 
 
+def first_present(header, *names):
+    return next((k for k in names if k in header), names[0])
+
+
 def section_run(run):
     header0 = run.headers[0]
-    keys = ["Code", "Dimension", "Problem", "DiskMass", "RingRadius", "KinematicViscosity", "ViscousTime", "Time"]
+    # CodeName and SimulationDimension, where a file has them (the layout yt's SWIFT reader takes), name
+    # the code and the run's dimension; older files say the same with Code and Dimension.
+    keys = [first_present(header0, "CodeName", "Code"), first_present(header0, "SimulationDimension", "Dimension"),
+            "Problem", "DiskMass", "RingRadius", "KinematicViscosity", "ViscousTime", "Time"]
     rows = [(k, header0[k]) for k in keys if k in header0]
     return (["### Run", "", f"Run directory: `{os.path.abspath(run.run_dir)}`, {len(run.snapshots)} snapshots. "
              f"Code units G = M = 1 with r0 the length unit: {units_text(run.units)}.", "",
