@@ -73,7 +73,7 @@ def plot_sigma(parts, stats, r0, path):
     save(fig, path)
 
 
-def vr_panel(ax, r_over_r0, values, centres, binned, analytic, ylabel):
+def vr_panel(ax, r_over_r0, values, centres, binned, analytic, ylabel, note=None):
     """One panel of Fig. 7: particles (dots), mass-weighted bin means (circles) and the analytic curve."""
     particle_dots(ax, r_over_r0, values)
     ax.plot(centres, binned, ls="none", marker="o", ms=2.5, color="k", label="bin mean")
@@ -81,10 +81,11 @@ def vr_panel(ax, r_over_r0, values, centres, binned, analytic, ylabel):
     if analytic is not None:
         ax.plot(*analytic, color="tab:red", label="analytic (P98 eq. 12)")
         ylim = [min(ylim[0], np.nanmin(analytic[1])), max(ylim[1], np.nanmax(analytic[1]))]
+    ylim = [min(ylim[0], 0.0), max(ylim[1], 0.0)]  # v_r = 0 in view: no round-off-wide axis for uniform flows
     pad = 0.1 * (ylim[1] - ylim[0] or 1.0)
     ax.axhline(0.0, color="0.5", lw=0.5)
     ax.set(xlabel=R_LABEL, ylabel=ylabel, xlim=radius_limits(r_over_r0), ylim=(ylim[0] - pad, ylim[1] + pad))
-    ax.legend(loc="upper left")
+    ax.legend(loc="upper left", title=note, title_fontsize=7, alignment="left")
 
 
 def plot_vr(parts, stats, profile, r0, path):
@@ -98,7 +99,8 @@ def plot_vr(parts, stats, profile, r0, path):
         analytic = (rr[inside] / r0, stats.ring.vr_over_nu(rr[inside]))
     fig, (left, right) = new_figure(WIDE, ncols=2)
     x = parts["r"] / r0
-    vr_panel(left, x, parts["vr"] * scale, profile.centres / r0, profile.vr * scale, analytic, unit)
+    vr_panel(left, x, parts["vr"] * scale, profile.centres / r0, profile.vr * scale, analytic, unit,
+             snapshot_note(stats).replace("\n", ", "))
     left.set_title("particle velocity", fontsize=8)
     if parts["drift"] is not None:
         vr_panel(right, x, parts["drift"] * scale, profile.centres / r0, profile.vr_drift * scale, analytic,
@@ -108,7 +110,6 @@ def plot_vr(parts, stats, profile, r0, path):
                    va="center", transform=right.transAxes)
         right.set(xlabel=R_LABEL)
     right.set_title(r"guiding-centre drift $\dot r_g = 2 j\,(x a_y - y a_x)/GM$", fontsize=8)
-    corner_note(right, snapshot_note(stats), "lower right")
     save(fig, path)
 
 
