@@ -422,6 +422,47 @@ class Runner {
          << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
   }
 
+  // Work and traffic counters of this rank, at one moment (the steps' share is a difference).
+  struct Counters {
+    long long step = 0;
+    std::size_t evaluations = 0, updates = 0, pairs = 0, h_solves = 0, h_sums = 0;
+    DomainTraffic traffic;
+  };
+  Counters counters_now() const {
+    return {s_.step, rates_.evaluations(), rates_.particle_updates(), rates_.pair_interactions(),
+            rates_.smoothing_length_solves(), rates_.smoothing_length_sums(), domain_.traffic()};
+  }
+
+  static std::string traffic_json(const Traffic& t) {
+    std::ostringstream os;
+    os << "{\"exchanges\": " << t.exchanges << ", \"messages\": " << t.messages << ", \"bytes\": " << t.bytes
+       << ", \"reductions\": " << t.reductions << ", \"reduction_bytes\": " << t.reduction_bytes << '}';
+    return os.str();
+  }
+  static std::string traffic_json(const DomainTraffic& t) {
+    return "{\"migration\": " + traffic_json(t.migration) + ", \"halo_build\": " + traffic_json(t.halo_build) +
+           ", \"halo_refresh\": " + traffic_json(t.halo_refresh) + ", \"reductions\": " + traffic_json(t.reductions) +
+           ", \"total\": " + traffic_json(t.total()) + '}';
+  }
+  static DomainTraffic difference(const DomainTraffic& a, const DomainTraffic& b) {
+    return {a.migration - b.migration, a.halo_build - b.halo_build, a.halo_refresh - b.halo_refresh,
+            a.reductions - b.reductions};
+  }
+
+  // The counters of the steps of the last advance() only: no set-up (first distribution, start-up
+  // evaluation), no snapshot, no checkpoint after the last step (docs/performance.md, "Scaling model").
+  std::string steps_json() const {
+    const Counters& a = steps_begin_;
+    const Counters& b = steps_end_;
+    std::ostringstream os;
+    os << "{\"steps\": " << b.step - a.step << ", \"rate_evaluations\": " << b.evaluations - a.evaluations
+       << ", \"particle_updates\": " << b.updates - a.updates << ", \"pair_interactions\": " << b.pairs - a.pairs
+       << ", \"smoothing_length_solves\": " << b.h_solves - a.h_solves
+       << ", \"smoothing_length_sums\": " << b.h_sums - a.h_sums
+       << ", \"traffic\": " << traffic_json(difference(b.traffic, a.traffic)) << '}';
+    return os.str();
+  }
+
   // Per rank: owned particles, ghosts, peak memory and phase timers (load imbalance and
   // communication share per phase; bench/mpi_scaling.sh reads it). Collective; the text on rank 0.
   std::string ranks_json() const {
@@ -439,6 +480,8 @@ class Runner {
        << ", \"smoothing_length_sums\": " << rates_.smoothing_length_sums()
        << ", \"involved_evaluations\": " << rates_.involved_evaluations()
        << ", \"involved_widenings\": " << rates_.involved_widenings()
+       << ", \"traffic\": " << traffic_json(domain_.traffic())
+       << ", \"steps\": " << steps_json()
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
     os << ", \"integrator\": " << integrator_->bytes();
@@ -517,6 +560,7 @@ class Runner {
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
   long long last_checkpoint_step_ = -1;  // -1: none yet
   long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
+  Counters steps_begin_, steps_end_;     // at the first step of advance() and after its last
   struct {
     double t_begin = 0;         // simulated time at the start of advance()
     std::size_t updates = 0;    // particles given new rates since then (all ranks)
@@ -538,6 +582,7 @@ RunSummary Runner::advance() {
   auto old_term = std::signal(SIGTERM, on_stop_signal);
   auto old_int = std::signal(SIGINT, on_stop_signal);
   bool interrupted = false, abandoned = false;
+  steps_begin_ = counters_now();
   while (static_cast<std::size_t>(s_.next_output) < t_out_.size() &&
          (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
@@ -599,6 +644,7 @@ RunSummary Runner::advance() {
     if (interrupted) break;
     progress(s_.step, s_.time, dt);
   }
+  steps_end_ = counters_now();
   std::signal(SIGTERM, old_term);
   std::signal(SIGINT, old_int);
   // Stopped by run.max_steps before the last output: a checkpoint, so that `sphdisk resume` continues.

@@ -353,9 +353,30 @@ void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldName
   }
 }
 
+Traffic DomainTraffic::total() const {
+  Traffic t = migration;
+  t += halo_build;
+  t += halo_refresh;
+  t += reductions;
+  return t;
+}
+
+// Adds what f() sends to `into`.
+template <class F>
+void count_traffic(Traffic& into, F&& f) {
+  const Traffic before = sent_traffic();
+  f();
+  into += sent_traffic() - before;
+}
+
 template <int D>
 void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
   if (comm_.size() == 1) return;
+  count_traffic(traffic_.migration, [&] { rebalance_now(p, min_cell_size); });
+}
+
+template <int D>
+void DistributedDomain<D>::rebalance_now(Particles<D>& p, double min_cell_size) {
   auto imbalance_of = [&](const std::vector<int>& owner) {
     std::vector<std::uint64_t> counts(static_cast<std::size_t>(comm_.size()), 0);
     for (const int r : owner) ++counts[static_cast<std::size_t>(r)];
@@ -384,8 +405,10 @@ Lattice<D> DistributedDomain<D>::add_ghosts(Particles<D>& p, double min_cell_siz
   // The halo's top cells are finer than the decomposition's (a few lattice cells across): ghosts
   // are chosen by distance to whole top cells, so coarse ones would bring many spare ghosts.
   constexpr std::size_t kParticlesPerHaloCell = 8;
+  const Traffic before = sent_traffic();
   const Decomposition<D> grid = global_top_grid(comm_, p, min_cell_size, top_cells_per_rank_, kParticlesPerHaloCell);
   halo_.build(comm_, grid, p, need, reach);
+  traffic_.halo_build += sent_traffic() - before;
   return grid.lattice;
 }
 
@@ -393,6 +416,7 @@ template <int D>
 double DistributedDomain<D>::kth_smallest(const std::vector<double>& values, std::uint64_t k) const {
   // Radix selection on the bit patterns (non-negative doubles order as their bits), one byte per
   // round from the top: an exact answer from 8 small histograms, whatever the rank count.
+  const Traffic before = sent_traffic();
   std::uint64_t prefix = 0, rank_in = k;
   for (int shift = 56; shift >= 0; shift -= 8) {
     const std::uint64_t high_mask = shift == 56 ? 0 : ~std::uint64_t{0} << (shift + 8);
@@ -409,16 +433,19 @@ double DistributedDomain<D>::kth_smallest(const std::vector<double>& values, std
   }
   double out;
   std::memcpy(&out, &prefix, sizeof out);
+  traffic_.reductions += sent_traffic() - before;
   return out;
 }
 
 template <int D>
 void DistributedDomain<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
+  const Traffic before = sent_traffic();
   switch (stage) {
     case GhostStage::SmoothingLength: halo_.refresh(comm_, p, {"h"}); break;
     case GhostStage::Density: halo_.refresh(comm_, p, {"rho", "volume"}); break;
     case GhostStage::Stress: halo_.refresh(comm_, p, {"stress", "correction"}); break;
   }
+  traffic_.halo_refresh += sent_traffic() - before;
 }
 
 template class DistributedDomain<2>;

@@ -66,6 +66,15 @@ class Halo {
   std::size_t owned_ = 0, ghosts_ = 0;
 };
 
+// What a DistributedDomain has sent, by purpose (sent_traffic() differences around each call).
+struct DomainTraffic {
+  Traffic migration;     // particles moved to their owners, with the decomposition's reductions
+  Traffic halo_build;    // ghosts chosen (occupancy-map reductions) and sent whole
+  Traffic halo_refresh;  // ghost fields refreshed between passes
+  Traffic reductions;    // the physics' global values (min, max, sums, selections)
+  Traffic total() const;
+};
+
 // The ParticleDomain of a run over MPI ranks (one rank: no ghosts, no messages).
 template <int D>
 class DistributedDomain final : public ParticleDomain<D> {
@@ -87,15 +96,26 @@ class DistributedDomain final : public ParticleDomain<D> {
   double kth_smallest(const std::vector<double>& values, std::uint64_t k) const override;
   void refresh_ghosts(Particles<D>& p, GhostStage stage) override;
   void remove_ghosts(Particles<D>& p) override { halo_.drop(p); }
-  double min(double x) const override { return comm_.min(x); }
-  double max(double x) const override { return comm_.max(x); }
-  std::uint64_t sum(std::uint64_t x) const override { return comm_.sum(x); }
-  bool any(bool x) const override { return comm_.any(x); }
+  double min(double x) const override { return counted([&] { return comm_.min(x); }); }
+  double max(double x) const override { return counted([&] { return comm_.max(x); }); }
+  std::uint64_t sum(std::uint64_t x) const override { return counted([&] { return comm_.sum(x); }); }
+  bool any(bool x) const override { return counted([&] { return comm_.any(x); }); }
 
   const Communicator& comm() const { return comm_; }
   const Halo<D>& halo() const { return halo_; }
+  const DomainTraffic& traffic() const { return traffic_; }
 
  private:
+  void rebalance_now(Particles<D>& p, double min_cell_size);
+  // f(), with what it sends added to traffic_.reductions.
+  template <class F>
+  auto counted(F&& f) const {
+    const Traffic before = sent_traffic();
+    const auto out = f();
+    traffic_.reductions += sent_traffic() - before;
+    return out;
+  }
+
   Communicator comm_;
   double threshold_;
   std::size_t top_cells_per_rank_;
@@ -103,6 +123,7 @@ class DistributedDomain final : public ParticleDomain<D> {
   std::optional<Decomposition<D>> owners_;
   std::size_t recuts_ = 0;
   double imbalance_ = 1;
+  mutable DomainTraffic traffic_;
 };
 
 }  // namespace sphdisk

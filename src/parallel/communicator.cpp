@@ -10,6 +10,26 @@
 
 namespace sphdisk {
 
+namespace {
+Traffic g_traffic;  // only the main thread communicates (MPI_THREAD_FUNNELED)
+}  // namespace
+
+Traffic& Traffic::operator+=(const Traffic& o) {
+  exchanges += o.exchanges;
+  messages += o.messages;
+  bytes += o.bytes;
+  reductions += o.reductions;
+  reduction_bytes += o.reduction_bytes;
+  return *this;
+}
+
+Traffic Traffic::operator-(const Traffic& o) const {
+  return {exchanges - o.exchanges, messages - o.messages, bytes - o.bytes, reductions - o.reductions,
+          reduction_bytes - o.reduction_bytes};
+}
+
+Traffic sent_traffic() { return g_traffic; }
+
 #ifdef SPHDISK_HAVE_MPI
 
 namespace {
@@ -36,6 +56,8 @@ Communicator Communicator::world() {
 // In-place all-reduce of n values; a communicator of one rank has nothing to combine.
 void all_reduce(void* handle, int size, void* data, std::size_t n, MPI_Datatype type, MPI_Op op) {
   if (size == 1) return;
+  ++g_traffic.reductions;
+  g_traffic.reduction_bytes += n * 8;  // every type reduced here is 8 bytes wide
   check(MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(n), type, op, comm_of(handle)), "MPI_Allreduce");
 }
 
@@ -66,6 +88,8 @@ void Communicator::bit_or(std::span<std::uint64_t> x) const {
 double Communicator::sum_in_rank_order(double x) const {
   if (size_ == 1) return x;
   std::vector<double> all(static_cast<std::size_t>(size_));
+  ++g_traffic.reductions;
+  g_traffic.reduction_bytes += sizeof x;
   check(MPI_Allgather(&x, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm_of(handle_)), "MPI_Allgather");
   double s = 0;
   for (double v : all) s += v;
@@ -76,6 +100,8 @@ double Communicator::sum_in_rank_order(double x) const {
 bool Communicator::any(bool x) const {
   if (size_ == 1) return x;
   int v = x ? 1 : 0;
+  ++g_traffic.reductions;
+  g_traffic.reduction_bytes += sizeof v;
   check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MAX, comm_of(handle_)), "MPI_Allreduce");
   return v != 0;
 }
@@ -100,6 +126,12 @@ std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std
     stotal += scount[r];
     rtotal += rcount[r];
   }
+  ++g_traffic.exchanges;
+  for (std::size_t r = 0; r < p; ++r)
+    if (r != static_cast<std::size_t>(rank_) && !send[r].empty()) {
+      ++g_traffic.messages;
+      g_traffic.bytes += send[r].size();
+    }
   std::vector<std::uint64_t> sbuf(static_cast<std::size_t>(stotal)), rbuf(static_cast<std::size_t>(rtotal));
   for (std::size_t r = 0; r < p; ++r)
     if (!send[r].empty()) std::memcpy(sbuf.data() + sdispl[r], send[r].data(), send[r].size());
@@ -115,6 +147,7 @@ std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std
 }
 
 void Communicator::barrier() const {
+  if (size_ > 1) ++g_traffic.reductions;
   if (size_ > 1) check(MPI_Barrier(comm_of(handle_)), "MPI_Barrier");
 }
 
@@ -130,6 +163,8 @@ bool launched_by_mpi() {
 constexpr int kPointToPointTag = 7;
 
 void Communicator::send(int to, const std::vector<std::byte>& bytes) const {
+  ++g_traffic.messages;
+  g_traffic.bytes += bytes.size();
   check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, kPointToPointTag, comm_of(handle_)),
         "MPI_Send");
 }

@@ -16,6 +16,20 @@
 
 namespace sphdisk {
 
+// What this process has sent so far, counted where it goes through a Communicator (the inputs of
+// a communication-cost model; counting only, no effect on what is sent). Exchanges: personalised
+// all-to-alls, each with one all-to-all of byte counts first; messages and bytes: their non-empty
+// buffers to other ranks. Reductions: all-reduces, all-gathers of one value, barriers and `any`,
+// with their payload bytes per rank. Point-to-point sends count as messages of their own.
+struct Traffic {
+  std::uint64_t exchanges = 0, messages = 0, bytes = 0, reductions = 0, reduction_bytes = 0;
+  Traffic& operator+=(const Traffic& o);
+  Traffic operator-(const Traffic& o) const;
+};
+
+// Everything this process has sent since it started (zero on one rank: nothing is sent).
+Traffic sent_traffic();
+
 class Communicator {
  public:
   // All ranks of the run (one rank when MPI was not started: see MpiSession).
