@@ -29,7 +29,7 @@ Assumptions:
     bytes), and the physics' selections (constant). An all-reduce of n bytes costs
     ceil(log2 P) latencies and 2 n / B (reduce-scatter and all-gather).
   * c_scan (choosing ghosts over every top cell of the global map) is an assumed 1 ns per cell-word.
-  * Machines: "here" (measured: c_pair from 1-rank steps, alpha and B from comm_bench over shared
+  * Machines: "here" (measured: c_pair from 1-rank CPU time per step, alpha and B from comm_bench over shared
     memory); Cray T3E-900 (one rank per node, alpha 12.5 us, B 300 MB/s per link, c_pair scaled by
     the factor T3E_COMPUTE_FACTOR below); an InfiniBand cluster (128 ranks per node over shared memory
     at this machine's alpha and B, 200 Gb/s and 1.5 us between nodes, a node's off-node bytes 1 /
@@ -38,9 +38,10 @@ Assumptions:
     limits (the T3E's 128 MB per node holds ~80k particles of this code: runs below N / 80k nodes
     could not run there; speedups are relative to a 1-rank run all the same).
 
-Usage: bench/scaling_model.py COUNTERS.csv COMM_BENCH.csv STEP_TIMES.csv FIGURE.png
-STEP_TIMES.csv: bench/mpi_scaling.sh's CSV (particles, ranks, seconds_per_step: medians measured
-here; the 1-rank rows give c_pair, the 2-rank rows are the validation).
+Usage: bench/scaling_model.py COUNTERS.csv COMM_BENCH.csv STEP_TIMES.csv CPU_TIMES.csv FIGURE.png
+STEP_TIMES.csv: bench/mpi_scaling.sh's CSV (seconds_per_step: wall-time medians on 1 and 2 ranks);
+CPU_TIMES.csv: bench/scaling_cpu_times.sh's. c_pair comes from the 1-rank CPU times (wall times
+on a shared machine include other work's share of the cores); both 2-rank figures validate.
 """
 import csv
 import math
@@ -255,7 +256,20 @@ def comm_constants(path):
     return alpha, 1 / per_byte, 2 * b_red / t_red
 
 
-def main(counters_csv, comm_csv, steps_csv, figure):
+def cpu_per_step(path):
+    """CPU seconds per step of each rank, by (N, P): (12-step run - 2-step run) / 10, per repeat."""
+    t = {}
+    for r in csv.DictReader(open(path)):
+        t[(int(r["particles"]), int(r["ranks"]), int(r["repeat"]), int(r["rank"]), int(r["steps"]))] = \
+            float(r["user_s"]) + float(r["sys_s"])
+    out = defaultdict(list)  # (N, P) -> per repeat, the busiest rank's
+    for (n, p, rep, rank, steps), v in t.items():
+        if steps == 12 and rank == 0:
+            out[(n, p)].append(max((t[(n, p, rep, k, 12)] - t[(n, p, rep, k, 2)]) / 10 for k in range(p)))
+    return out
+
+
+def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -265,8 +279,11 @@ def main(counters_csv, comm_csv, steps_csv, figure):
     times = defaultdict(list)
     for r in csv.DictReader(open(steps_csv)):
         times[(int(r["particles"]), int(r["ranks"]))].append(float(r["seconds_per_step"]))
-    one = [(n, min(ts)) for (n, p), ts in times.items() if p == 1]
-    c_pair = float(np.mean([t / (runs[(n, 1)][0]["pair_interactions"]) for n, t in one]))
+    cpu = cpu_per_step(cpu_csv)
+    c_pair = float(np.mean([np.median(ts) / runs[(n, 1)][0]["pair_interactions"] for (n, p), ts in cpu.items()
+                            if p == 1]))
+    wall_c_pair = float(np.mean([min(ts) / runs[(n, 1)][0]["pair_interactions"] for (n, p), ts in times.items()
+                                 if p == 1]))
     alpha, bandwidth, reduce_bandwidth = comm_constants(comm_csv)
     here = Machine("this machine", c_pair, alpha, bandwidth, reduce_bandwidth)
     machines = [Machine(f"Cray T3E-900 (compute x{T3E_COMPUTE_FACTOR:g} slower per pair)",
@@ -278,7 +295,8 @@ def main(counters_csv, comm_csv, steps_csv, figure):
     variants.append(Machine("InfiniBand, intra-node at the exchange's rate here", c_pair, alpha, bandwidth,
                             reduce_bandwidth, ranks_per_node=128, net_alpha=1.5e-6, net_bandwidth=25e9))
 
-    print(f"c_pair here {c_pair:.3e} s per pair interaction ({1 / c_pair:.3g} pairs/s); "
+    print(f"c_pair here {c_pair:.3e} s CPU per pair interaction ({1 / c_pair:.3g} pairs/s; "
+          f"{wall_c_pair:.3e} s of wall time on the shared machine); "
           f"alpha {alpha * 1e6:.2f} us, B {bandwidth / 1e9:.2f} GB/s (exchange), {reduce_bandwidth / 1e9:.2f} GB/s "
           f"(all-reduce), shared-memory MPI")
     print(f"fits: pairs = {f['p_o']:.2f} owned + {f['p_g']:.2f} ghosts; ghosts/rank mean min({f['c_ring']:.2f} "
@@ -288,10 +306,12 @@ def main(counters_csv, comm_csv, steps_csv, figure):
           f"{f['build_bytes_per_ghost']:.0f} B per ghost per build, {f['refresh_bytes_per_ghost']:.0f} per step "
           f"refreshed; halo all-reduce factor {f['k_cells']:.2f}; messages at 64 ranks {f['messages_at_64']}")
 
-    print("\nvalidation on this machine (s/step): particles, ranks, model, measured (median of repeats), model/measured")
+    print("\nvalidation on this machine (s/step): particles, ranks, model, measured wall (median), busiest "
+          "rank's CPU (median), model / CPU")
     for (n, p), ts in sorted(times.items()):
         t, parts = here.step(step_counts(n, p, f, runs), p)
-        print(f"  {n:>9,} {p:>3} {t:.4f} {min(ts):.4f} {t / min(ts):.2f}  "
+        c = float(np.median(cpu[(n, p)])) if (n, p) in cpu else math.nan
+        print(f"  {n:>9,} {p:>3} {t:.4f} {min(ts):.4f} {c:.4f} {t / c:.2f}  "
               + " ".join(f"{k} {v:.4f}" for k, v in parts.items()))
     print("\nghosts per rank, measured mean (max) against the fit (+extra), and the halo-volume estimate "
           "of a square domain (4 (N/P)^1/2 w/d + pi (w/d)^2):")
@@ -305,14 +325,16 @@ def main(counters_csv, comm_csv, steps_csv, figure):
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
     for col, m in enumerate(machines):
         print(f"\n{m.name}:")
+        colours = {}
         for n in MODEL_N:
             t1, below, eff, spd, meas = scan_ranks(m, n, f, runs)
-            plot_curves(axes[0][col], axes[1][col], n, spd, eff, meas)
+            colours[n] = plot_curves(axes[0][col], axes[1][col], n, spd, eff, meas)
             print(half_efficiency_line(n, t1, below, eff))
         if col == 0:
             for n, (p, s) in P98_T3E.items():
-                axes[0][0].plot(p, s, "k*", ms=12, label=f"P98 Fig. 9, {n // 1000}k (sec. 5.5)")
-                axes[1][0].plot(p, s / p, "k*", ms=12)
+                style = dict(marker="*", ms=14, color=colours[n], markeredgecolor="k", ls="none")
+                axes[0][0].plot(p, s, label=f"P98 Fig. 9, {n // 1000}k: {s} on {p} (sec. 5.5)", **style)
+                axes[1][0].plot(p, s / p, **style)
         axes[0][col].set_title(m.name, fontsize=9)
     for m in variants:
         print(f"\nsensitivity, {m.name}:")
@@ -374,7 +396,8 @@ def plot_curves(ax_s, ax_e, n, spd, eff, meas):
     ax_s.plot(RANKS[last:], spd[last:], "--", color=colour, lw=1.8)
     ax_e.plot(RANKS[: last + 1], eff[: last + 1], "-", color=colour, lw=1.8)
     ax_e.plot(RANKS[last:], eff[last:], "--", color=colour, lw=1.8)
+    return colour
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:5])
+    main(*sys.argv[1:6])
