@@ -43,6 +43,7 @@ STEP_TIMES.csv: bench/mpi_scaling.sh's CSV (seconds_per_step: wall-time medians 
 CPU_TIMES.csv: bench/scaling_cpu_times.sh's. c_pair comes from the 1-rank CPU times (wall times
 on a shared machine include other work's share of the cores); both 2-rank figures validate.
 """
+import copy
 import csv
 import math
 import sys
@@ -161,9 +162,9 @@ def count_imbalance(p, runs):
     return max(measured, key=lambda x: x[0])[1][0]["count_imbalance"]
 
 
-def step_counts(n, p, f, runs):
+def step_counts(n, p, f, runs, use_measured=True):
     """The busiest rank's counts per step: measured where the run exists, else extrapolated."""
-    if (n, p) in runs:
+    if use_measured and (n, p) in runs:
         rs = runs[(n, p)]
         mx = lambda k: max(r[k] for r in rs)
         c = dict(measured=True, pairs=mx("pair_interactions"), ghosts=mx("ghosts"),
@@ -171,6 +172,10 @@ def step_counts(n, p, f, runs):
         for q in PURPOSES:
             c[q] = dict(exchanges=rs[0][f"{q}_exchanges"], messages=mx(f"{q}_messages"), bytes=mx(f"{q}_bytes"),
                         reductions=rs[0][f"{q}_reductions"], reduction_bytes=rs[0][f"{q}_reduction_bytes"])
+        # A rank's exchange costs what it sends or what it receives, whichever is more; the counters
+        # hold what each rank sent, its ghosts what it received.
+        c["halo_build"]["bytes"] = max(c["halo_build"]["bytes"], f["build_bytes_per_ghost"] * c["ghosts"])
+        c["halo_refresh"]["bytes"] = max(c["halo_refresh"]["bytes"], f["refresh_bytes_per_ghost"] * c["ghosts"])
         return c
     if p == 1:
         return dict(measured=False, pairs=f["p_o"] * n, ghosts=0, cells=0, words=0,
@@ -322,6 +327,16 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
             print(f"  {n:>9,} {p:>3}: {np.mean(g):8.0f} ({max(g):6.0f})  fit {fit:8.0f} ({fit + f['extra']:6.0f})"
                   f"  square {halo_volume_estimate(n / p):8.0f}")
 
+    print("\nthe extrapolation's formulas against the measured counters per step, busiest rank (formula / measured):")
+    for n in MEASURED_N:
+        for p in (8, 64):
+            a, b = step_counts(n, p, f, runs, False), step_counts(n, p, f, runs)
+            ratio = lambda q, k: a[q][k] / b[q][k] if b[q][k] else math.nan
+            print(f"  {n:>9,} {p:>3}: pairs {a['pairs'] / b['pairs']:.2f}, ghosts {a['ghosts'] / b['ghosts']:.2f}, "
+                  f"halo bytes {ratio('halo_build', 'bytes'):.2f} + {ratio('halo_refresh', 'bytes'):.2f}, "
+                  f"messages {ratio('halo_build', 'messages'):.2f}, migration bytes {ratio('migration', 'bytes'):.2f}, "
+                  f"all-reduce bytes {ratio('halo_build', 'reduction_bytes'):.2f} + "
+                  f"{ratio('migration', 'reduction_bytes'):.2f}")
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
     for col, m in enumerate(machines):
         print(f"\n{m.name}:")
@@ -340,6 +355,18 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
         print(f"\nsensitivity, {m.name}:")
         for n in MODEL_N:
             print(half_efficiency_line(n, *scan_ranks(m, n, f, runs)[:3]))
+    for m in machines:
+        print(f"\nwithout the P^2 all-reduces (neighbours-only occupancy, all-to-all of counts), {m.name}:")
+        for n in MODEL_N:
+            print(half_efficiency_line(n, *scan_ranks(m, n, f, runs, without_dense_reductions)[:3]))
+    m = machines[1]
+    for label, change in (("this code", lambda c, p: c), ("without the P^2 all-reduces", without_dense_reductions)):
+        print(f"\nhybrid ranks x threads on {m.name}, {label}: efficiency on 1024 / 4096 cores with 1, 8, 32 "
+              f"threads per rank:")
+        for n in MODEL_N:
+            print(f"  N={n:>11,}: " + "; ".join(
+                f"{hybrid_efficiency(m, n, 1024, t, f, runs, change):.0%} / "
+                f"{hybrid_efficiency(m, n, 4096, t, f, runs, change):.0%}" for t in (1, 8, 32)))
     for ax in axes.flat:
         ax.set_xscale("log", base=2)
         ax.set_xlabel("ranks")
@@ -359,13 +386,13 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
     print(f"\nfigure -> {figure}")
 
 
-def scan_ranks(m, n, f, runs):
+def scan_ranks(m, n, f, runs, change=lambda c, p: c):
     """One-rank time, the first (P, t, parts) below 50% efficiency, and per P: efficiency, speedup,
-    whether the counters were measured."""
+    whether the counters were measured (`change`: the counts as a changed code would have them)."""
     t1 = m.step(step_counts(n, 1, f, runs), 1)[0]
     eff, spd, meas, below = [], [], [], None
     for p in RANKS:
-        c = step_counts(n, p, f, runs)
+        c = change(step_counts(n, p, f, runs), p)
         t, parts = m.step(c, p)
         spd.append(t1 / t)
         eff.append(t1 / t / p)
@@ -373,6 +400,32 @@ def scan_ranks(m, n, f, runs):
         if below is None and eff[-1] < 0.5:
             below = (p, t, parts)
     return t1, below, eff, spd, meas
+
+
+def without_dense_reductions(c, p):
+    """The counts with the two P^2 all-reduces replaced by what neighbours-only messages would send:
+    the halo's occupancy of a rank's own and nearby halo cells (~(owned + ghosts) / 8 cells, 16 bytes
+    each) and each rank's P send counts (an all-to-all instead of the P x P sum)."""
+    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in c.items()}
+    if p > 1:
+        builds = out["halo_build"]["exchanges"]
+        out["halo_build"]["reduction_bytes"] = builds * 16 * (c["ghosts"] + c["pairs"] / 32) / 8
+        out["migration"]["reduction_bytes"] = 8.0 * p
+        out["cells"], out["words"] = 0, 0
+    return out
+
+
+def hybrid_efficiency(m, n, cores, threads, f, runs, change=lambda c, p: c, thread_efficiency=0.85):
+    """Efficiency on `cores` cores as cores / threads ranks of `threads` threads each (the rank's
+    compute divided among its threads at thread_efficiency, its communication unchanged; a node
+    holds 1 / threads as many ranks)."""
+    t1 = m.step(step_counts(n, 1, f, runs), 1)[0]
+    p = max(cores // threads, 1)
+    m = copy.copy(m)
+    m.rpn = max(m.rpn // threads, 1)
+    t, parts = m.step(change(step_counts(n, p, f, runs), p), p)
+    t -= parts["compute"] * (1 - 1 / (threads * (thread_efficiency if threads > 1 else 1.0)))
+    return t1 / t / cores
 
 
 def half_efficiency_line(n, t1, below, eff):
