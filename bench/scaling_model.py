@@ -18,22 +18,27 @@ Assumptions:
   * Ranks wait for each other at every exchange, so the slowest rank's compute and the busiest
     rank's communication add up (no overlap: the code has none). Imbalance enters through the max.
   * pairs_r = p_o * owned_r + p_g * ghosts_r (least squares over all measured ranks); the slowest
-    rank has (N/P) * 1.05 owned particles (the rebalancing threshold) and the most ghosts.
-  * Ghosts per rank grow with the perimeter of a rank's domain in 2D: g = A (N/P)^(1/2), fitted to
-    the measured mean and max; bytes per ghost (whole particle at a halo build, the refreshed fields
-    per step) and migrated bytes in proportion to the mean ghosts (both cross a rank's boundary). Messages per exchange of the busiest rank:
-    min(P - 1, the measured count at 64 ranks) (the 2M value for larger N).
+    rank has (N/P) * imbalance owned particles (measured up to 64 ranks, the rebalancing threshold
+    1.05 beyond) and a mean rank's ghosts (the rank with the most ghosts has no more pairs than the
+    others: its extra ghosts are spare).
+  * A rank's exchange costs the larger of the bytes it sends and receives (its ghosts' bytes).
+  * Ghosts per rank: min(c N^beta, A (N/P)^(1/2) + B), sectors across the ring on few ranks, 2D
+    patches (ghosts ~ perimeter) on many (fit_ghosts), plus a constant for the busiest rank; bytes
+    per ghost (whole particle at a halo build, the refreshed fields per step) as measured; migrated
+    bytes in proportion to the mean ghosts (both cross a rank's boundary). Messages per exchange of
+    the busiest rank: min(P - 1, the measured count at 64 ranks) (the 2M value for larger N).
   * All-reduce sizes follow the code: the halo's occupancy map and largest radii over all top cells
-    (cells = max(256 P, N / 8), one bit per rank, so ceil(P/64) + 1 words per cell: O(N) per rank,
-    calibrated by one factor against the counters), the migration's P x P send counts (8 P^2
-    bytes), and the physics' selections (constant). An all-reduce of n bytes costs
+    (cells = max(256 P, N / 8), one bit per rank, so ceil(P/64) + 1 words per cell: O(N) and O(P^2)
+    per rank, calibrated by one factor against the counters), the migration's P x P send counts
+    (8 P^2 bytes), and the physics' selections (constant). An all-reduce of n bytes costs
     ceil(log2 P) latencies and 2 n / B (reduce-scatter and all-gather).
   * c_scan (choosing ghosts over every top cell of the global map) is an assumed 1 ns per cell-word.
-  * Machines: "here" (measured: c_pair from 1-rank CPU time per step, alpha and B from comm_bench over shared
-    memory); Cray T3E-900 (one rank per node, alpha 12.5 us, B 300 MB/s per link, c_pair scaled by
-    the factor T3E_COMPUTE_FACTOR below); an InfiniBand cluster (128 ranks per node over shared memory
-    at this machine's alpha and B, 200 Gb/s and 1.5 us between nodes, a node's off-node bytes 1 /
-    sqrt(128) of its ranks' halo bytes, sharing the node's link; this machine's per-core speed).
+  * Machines: "here" (measured: c_pair from 1-rank CPU time per step; alpha, the exchange's B and
+    the all-reduce's B from comm_bench over shared memory); Cray T3E-900 (one rank per node, alpha
+    12.5 us, 300 MB/s per link, c_pair scaled by T3E_COMPUTE_FACTOR below); an InfiniBand cluster
+    (128 ranks per node at this machine's alpha and all-reduce B inside, 200 Gb/s and 1.5 us between
+    nodes, a node's off-node bytes 1 / sqrt(128) of its ranks' halo bytes, sharing the node's link;
+    this machine's per-core speed).
   * Not modelled: output, set-up, the OS and network noise, contention inside the network, memory
     limits (the T3E's 128 MB per node holds ~80k particles of this code: runs below N / 80k nodes
     could not run there; speedups are relative to a 1-rank run all the same).
@@ -185,8 +190,7 @@ def step_counts(n, p, f, runs, use_measured=True):
     msgs = min(p - 1, m64)
     # The busiest rank's extra ghosts are spare ones (measured: no more pairs than the others).
     c = dict(measured=False, pairs=f["p_o"] * n / p * count_imbalance(p, runs) + f["p_g"] * mean_ghosts(n, p, f),
-             ghosts=g_max,
-             cells=halo_cells(n, p), words=math.ceil(p / 64))
+             ghosts=g_max, cells=halo_cells(n, p), words=math.ceil(p / 64))
     c["halo_build"] = dict(exchanges=f["builds"], messages=msgs * f["builds"],
                            bytes=f["build_bytes_per_ghost"] * g_max, reductions=f["halo_reductions"],
                            reduction_bytes=f["builds"] * halo_reduction_bytes(n, p, f["k_cells"]))
