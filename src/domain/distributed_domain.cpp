@@ -361,6 +361,7 @@ Traffic DomainTraffic::total() const {
   return t;
 }
 
+namespace {
 // Adds what f() sends to `into`.
 template <class F>
 void count_traffic(Traffic& into, F&& f) {
@@ -368,6 +369,7 @@ void count_traffic(Traffic& into, F&& f) {
   f();
   into += sent_traffic() - before;
 }
+}  // namespace
 
 template <int D>
 void DistributedDomain<D>::rebalance(Particles<D>& p, double min_cell_size) {
