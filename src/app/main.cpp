@@ -12,6 +12,7 @@
 
 #include "app/ring_analysis.hpp"
 #include "app/simulation.hpp"
+#include "app/disc_profiles.hpp"
 #include "app/sweep.hpp"
 #include "core/build_info.hpp"
 #include "core/vector_isa.hpp"
@@ -31,11 +32,19 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
   sphdisk::SnapshotMeta meta;
   // Kept in the file's own code units, in which the ring header values are given.
   const auto p = sphdisk::read_snapshot<2>(path, nullptr, meta);
-  const auto c = sphdisk::compare_ring(p, meta, bins);
-  std::cout << sphdisk::ring_comparison_table(c);
+  // The ring against its analytic solution; any other disc as radial profiles.
+  std::string table, json;
+  if (sphdisk::is_ring_snapshot(meta)) {
+    const auto c = sphdisk::compare_ring(p, meta, bins);
+    table = sphdisk::ring_comparison_table(c), json = sphdisk::ring_comparison_json(c);
+  } else {
+    const auto d = sphdisk::disc_profiles(p, meta, bins);
+    table = sphdisk::disc_profiles_table(d), json = sphdisk::disc_profiles_json(d);
+  }
+  std::cout << table;
   if (!json_path.empty()) {
     std::ofstream f(json_path);
-    f << sphdisk::ring_comparison_json(c);
+    f << json;
     if (!f) throw sphdisk::UserError("cannot write '" + json_path + "'");
   }
   return 0;
@@ -208,9 +217,9 @@ int main(int argc, char** argv) {
       if (summary.interrupted) return report_interrupted(summary);
       // The accuracy table of the last snapshot (the README's main job ends with it).
       char last[64];
-      std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_tau.size());
+      std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_count());
       const auto path = std::filesystem::path(summary.output_dir) / last;
-      if (std::filesystem::exists(path) && cfg.viscosity > 0) return cmd_analyze(path.string(), "", 50);
+      if (std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty())) return cmd_analyze(path.string(), "", 50);
       return 0;
     }
     if (*resume) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -187,6 +188,18 @@ struct Setup {
   double time_of_tau(double tau) const { return tau_rate > 0 ? tau / tau_rate : tau; }
 };
 
+// The output times in code units: output.times as given, output.orbits times the period 2 pi R^1.5
+// at R = output.orbit_radius (G M = r0 = 1), or output.tau through the viscous time.
+std::vector<double> output_times(const Config& cfg, const Setup& setup) {
+  if (!cfg.output_times.empty()) return cfg.output_times;
+  std::vector<double> t;
+  const double period = 2.0 * std::numbers::pi * std::pow(cfg.output_orbit_radius, 1.5);
+  for (double orbits : cfg.output_orbits) t.push_back(orbits * period);
+  if (t.empty())
+    for (double tau : cfg.output_tau) t.push_back(setup.time_of_tau(tau));
+  return t;
+}
+
 Setup make_setup(const Config& cfg) {
   Setup s;
   // Code units: length r0, mass M, G = 1 (core/units.hpp).
@@ -263,13 +276,14 @@ class Runner {
     p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction()));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
     if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
-    for (double tau : cfg.output_tau) t_out_.push_back(setup_.time_of_tau(tau));
+    t_out_ = output_times(cfg, setup_);
     meta_.viscosity = setup_.phys.nu;
     meta_.ring_radius = 1.0;
     meta_.disc_mass = setup_.ring.solution.disc_mass;
     meta_.energy = cfg.evolve_energy;
     meta_.units = setup_.units;
     meta_.parameters = cfg.resolved;
+    meta_.problem = cfg.initial_conditions.empty() ? "ring" : "initial_conditions";
     if (distributed()) rates_.set_domain(&domain_);
     rates_.set_list_skin(cfg.list_skin);
     rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));
@@ -768,8 +782,8 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     p = make_ring(setup.ring, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
     state.time = setup.time_of_tau(cfg.tau_start);
   }
-  if (setup.time_of_tau(cfg.output_tau.back()) <= state.time)
-    throw UserError("every output.tau is at or before the initial time (tau = " +
+  if (output_times(cfg, setup).back() <= state.time)
+    throw UserError("every output time is at or before the initial time (t = " + std::to_string(state.time) + ", tau = " +
                     std::to_string(setup.tau_of_time(state.time)) + "); give output times after it");
   // h: given, or from the target mean neighbour number (analytically for the ring, measured on
   // the particles for a user's file). Constant smoothing keeps it for all particles and times

@@ -121,10 +121,15 @@ KeyDef string_key(std::string name, std::string Config::*m, std::vector<std::str
           [m](const Config& c) { return toml_text(c.*m); }};
 }
 
-KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std::string help) {
+// may_be_empty: an optional list ([] = not given).
+KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std::string help, bool may_be_empty = false) {
   return {name, "list of numbers", std::move(help),
-          [m](const toml::node& n, Config& c) -> std::string {
+          [m, may_be_empty](const toml::node& n, Config& c) -> std::string {
             const toml::array* a = n.as_array();
+            if (a && a->empty() && may_be_empty) {
+              (c.*m).clear();
+              return "";
+            }
             if (!a || a->empty()) return "must be a non-empty list of numbers, e.g. [0.036, 0.09]";
             std::vector<double> v;
             for (const auto& e : *a) {
@@ -175,7 +180,10 @@ const std::vector<KeyDef>& schema() {
       float_key("integrator.viscous_factor", &Config::viscous_factor, in_range(1e-6, 1), "dt <= factor h^2 / nu"),
       float_key("integrator.courant_factor", &Config::courant_factor, in_range(1e-6, 1), "dt <= factor h / c_s"),
       float_key("integrator.dt_max", &Config::dt_max, non_negative(), "largest timestep in code units (0: no limit)"),
-      increasing_list_key("output.tau", &Config::output_tau, "viscous times of the snapshots; the run ends at the last"),
+      increasing_list_key("output.tau", &Config::output_tau, "viscous times tau = 12 nu t / r0^2 of the snapshots; the run ends at the last (unless output.times or output.orbits is given)"),
+      increasing_list_key("output.times", &Config::output_times, "times of the snapshots in code units (G = M = r0 = 1, one orbit at r0 is 2 pi), instead of output.tau; [] = not given", true),
+      increasing_list_key("output.orbits", &Config::output_orbits, "times of the snapshots in orbits at output.orbit_radius (counted from t = 0), instead of output.tau; [] = not given", true),
+      float_key("output.orbit_radius", &Config::output_orbit_radius, positive(), "radius, in units of problem.ring_radius, whose orbital period output.orbits counts"),
       string_key("output.dir", &Config::output_dir, {}, "output directory"),
       float_key("output.progress_interval", &Config::progress_interval, non_negative(), "seconds between progress lines (0: none)"),
       int_key("checkpoint.every_steps", &Config::checkpoint_every_steps, 0, (1LL << 62), "write a checkpoint every this many steps (0: off; checkpoints are also written at every output and on SIGTERM/SIGINT)"),
@@ -304,7 +312,9 @@ void check_consistency(const Config& c) {
   if (c.accretion_radius >= 1.0)
     throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
                     " must be < 1 (it is in units of ring_radius: particles inside are removed)");
-  if (c.output_tau.front() <= c.tau_start)
+  if (!c.output_times.empty() && !c.output_orbits.empty())
+    throw UserError("config: give the output times once: output.times (code units) or output.orbits, not both");
+  if (c.output_times.empty() && c.output_orbits.empty() && c.initial_conditions.empty() && c.output_tau.front() <= c.tau_start)
     throw UserError("config: output.tau must start after problem.tau_start = " + toml_text(c.tau_start) +
                     " (got " + toml_text(c.output_tau.front()) + ")");
   if (c.eos == "isothermal" && c.sound_speed <= 0)

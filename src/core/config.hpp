@@ -46,6 +46,12 @@ struct Config {
   double dt_max = 0;               // code units; 0: no limit
   // [output]
   std::vector<double> output_tau = {0.036, 0.054, 0.072, 0.090, 0.126};
+  std::vector<double> output_times;   // code time (G = M = r0 = 1); when given, instead of output_tau
+  std::vector<double> output_orbits;  // orbits of period 2 pi R^1.5 at R = output_orbit_radius, counted from t = 0
+  double output_orbit_radius = 1.0;   // in units of problem.ring_radius (the code length unit)
+  std::size_t output_count() const {
+    return !output_times.empty() ? output_times.size() : !output_orbits.empty() ? output_orbits.size() : output_tau.size();
+  }
   std::string output_dir = "runs/ring";
   double progress_interval = 5.0;  // seconds between progress lines; 0: none
   // [checkpoint] (also written at every output and on SIGTERM / SIGINT)

@@ -1,3 +1,4 @@
+#include <cstdio>
 #include "io/snapshot.hpp"
 
 #include <algorithm>
@@ -29,6 +30,7 @@ void write_parameters(hid_t file, const SnapshotMeta& meta) {
     else if (v.is_floating_point()) h5::write_attr(g, key, *v.value<double>());
     else if (v.is_boolean()) h5::write_attr(g, key, static_cast<long long>(*v.value<bool>()));
     else if (v.is_string()) h5::write_attr(g, key, *v.value<std::string>());
+    else if (const toml::array* a = v.as_array(); a && a->empty()) h5::write_attr(g, key, text);  // HDF5 has no empty attribute
     else if (const toml::array* a = v.as_array()) {
       std::vector<double> xs;
       for (const auto& e : *a) xs.push_back(e.value<double>().value_or(0.0));
@@ -72,6 +74,7 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   h5::write_attr(g, "AccretedMass", meta.accreted_mass);
   h5::write_attr(g, "AccretedAngularMomentum", meta.accreted_angular_momentum);
   h5::write_attr(g, "Step", meta.step);
+  if (!meta.problem.empty()) h5::write_attr(g, "Problem", meta.problem);
 }
 
 void write_units(hid_t file, const UnitSystem& u) {
@@ -157,6 +160,26 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
 }
 
 namespace {
+// The /Parameters and /Units that analysis reads back (the kernel, the point mass, where the initial
+// conditions came from, the units), as the TOML text the run resolved them to.
+void read_analysis_parameters(hid_t file, const std::string& path, SnapshotMeta& meta) {
+  if (h5::exists(file, "Parameters")) {
+    h5::Handle g = h5::open_group(file, "Parameters", path);
+    for (const char* key : {"sph.kernel", "problem.initial_conditions"})
+      if (h5::has_attr(g, key)) meta.parameters.emplace_back(key, "\"" + h5::read_attr_string(g, key, path) + "\"");
+    if (h5::has_attr(g, "physics.central_mass")) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.17g", h5::read_attr_double(g, "physics.central_mass", path));
+      meta.parameters.emplace_back("physics.central_mass", text);
+    }
+  }
+  if (h5::exists(file, "Units")) {
+    h5::Handle u = h5::open_group(file, "Units", path);
+    meta.units = UnitSystem{h5::read_attr_double(u, "UnitLength_in_cm", path), h5::read_attr_double(u, "UnitMass_in_g", path),
+                            h5::read_attr_double(u, "UnitTime_in_s", path)};
+  }
+}
+
 template <int D>
 Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta,
                                       h5::RowShare share) {
@@ -188,6 +211,9 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
   meta.disc_mass = optional("DiskMass", 0) * fm;
   meta.accreted_mass *= fm;
   meta.accreted_angular_momentum *= fm * fl * fl / ft;
+  meta.problem = h5::has_attr(header, "Problem") ? h5::read_attr_string(header, "Problem", path) : "";
+  read_analysis_parameters(file, path, meta);
+  if (code_units && h5::exists(file, "Units")) meta.units = *code_units;  // the values were converted to them
 
   h5::Handle g = h5::open_group(file, "PartType0", path);
   Particles<D> p;

@@ -27,6 +27,7 @@ struct SnapshotMeta {
   bool energy = false;             // InternalEnergy written / present
   UnitSystem units{1, 1, 1};
   std::vector<std::pair<std::string, std::string>> parameters;  // resolved config (key, TOML text)
+  std::string problem;             // Header Problem: "ring" (the generated ring) or "initial_conditions" (from a file); "" where absent
 };
 
 template <int D>

@@ -8,6 +8,7 @@ cgs with a length unit of 2 solar radii) is run for a short time; the output mus
 particle ID and mass, convert units (positions in the run's code units are twice the file's) and
 start at the file's time.
 """
+import json
 import subprocess
 import sys
 import tempfile
@@ -63,6 +64,49 @@ def non_finite_stops_with_dump(exe, config, tmp):
              block.returncode == 3 and block.stderr.count("\n") == 1 and block_named and block_dump.exists())]
 
 
+def output_times_and_disc_analysis(exe, config, ic, tmp):
+    """A user's disc from a file: output times in code units or in orbits, no ring parameter needed,
+    and `analyze` gives radial profiles instead of the ring's analytic comparison."""
+    ic_set = ["--set", f'problem.initial_conditions="{ic}"', "--set", "physics.accretion_radius=0.0",
+              "--set", "problem.tau_start=1e9"]  # a ring parameter that no longer matters
+    checks = []
+    by_time = subprocess.run([exe, "run", str(config), "-q", "-o", str(tmp / "times"), *ic_set,
+                              "--set", "output.times=[40.5, 41.0]"], capture_output=True, text=True)
+    checks.append(("output.times: a disc from a file runs without ring parameters", by_time.returncode == 0))
+    if by_time.returncode == 0:
+        with h5py.File(tmp / "times" / "snapshot_002.hdf5") as s2:
+            checks.append(("output.times: snapshot at t = 41.0", abs(s2["Header"].attrs["Time"] - 41.0) < 1e-9))
+            checks.append(("Header Problem names the file's set-up", s2["Header"].attrs["Problem"] == b"initial_conditions"
+                           or s2["Header"].attrs["Problem"] == "initial_conditions"))
+        checks.append(("the run ends with radial profiles, not the ring's accuracy table",
+                       "Mdot_in" in by_time.stdout and "tau*/tau" not in by_time.stdout))
+        js = tmp / "profiles.json"
+        subprocess.run([exe, "analyze", str(tmp / "times" / "snapshot_002.hdf5"), "--json", str(js)],
+                       check=True, stdout=subprocess.DEVNULL)
+        prof = json.loads(js.read_text())
+        counted = sum(b["count"] for b in prof["bins"])
+        mass = sum(b["sigma"] * np.pi * (b["r_hi"] ** 2 - b["r_lo"] ** 2) for b in prof["bins"])
+        checks.append(("analyze: profiles bin every particle and their mass", prof.get("problem") == "disc"
+                       and counted == prof["particles"] and abs(mass / prof["mass"] - 1) < 1e-12))
+        inner = max(prof["bins"], key=lambda b: b["count"])
+        checks.append(("analyze: Kepler j = sqrt(G M r) at the densest bin (G M = 1)",
+                       abs(inner["j"] / np.sqrt(0.5 * (inner["r_lo"] + inner["r_hi"])) - 1) < 0.02))
+    period = 2 * np.pi * 1.0 ** 1.5
+    by_orbit = subprocess.run([exe, "run", str(config), "-q", "-o", str(tmp / "orbits"), *ic_set,
+                               "--set", "output.orbits=[6.5]"], capture_output=True, text=True)
+    ok = by_orbit.returncode == 0
+    if ok:
+        with h5py.File(tmp / "orbits" / "snapshot_001.hdf5") as s1:
+            ok = abs(s1["Header"].attrs["Time"] - 6.5 * period) < 1e-9
+    checks.append(("output.orbits: snapshot at 6.5 orbits of r0 (t = 13 pi)", ok))
+    both = subprocess.run([exe, "run", str(config), "-q", "-o", str(tmp / "both"), *ic_set,
+                           "--set", "output.orbits=[6.5]", "--set", "output.times=[41]"], capture_output=True, text=True)
+    checks.append(("output.times and output.orbits together: one-line error, exit 2, nothing written",
+                   both.returncode == 2 and both.stderr.count("\n") == 1 and "not both" in both.stderr
+                   and not (tmp / "both").exists()))
+    return checks
+
+
 def main():
     exe = sys.argv[1]
     checks = []
@@ -102,6 +146,7 @@ def main():
             checks.append(("positions converted to code units", np.allclose(r0, 2 * r[::-1], rtol=1e-12)))
             checks.append(("starts at the file's time", abs(s0["Header"].attrs["Time"] - 40.0) < 1e-9))
             checks.append(("smoothing length calibrated", s0["PartType0/SmoothingLength"][0] > 0))
+        checks += output_times_and_disc_analysis(exe, config, ic, tmp)
         checks += non_finite_stops_with_dump(exe, config, tmp)
     return summarise("initial conditions", checks)
 
