@@ -39,6 +39,14 @@ void write_parameters(hid_t file, const SnapshotMeta& meta) {
   }
 }
 
+// The written box: the particles' extent (snapshot_box_size), or 1 without particles, as readers
+// divide by it.
+double written_box_size(const SnapshotMeta& meta) { return meta.box_size > 0 ? meta.box_size : 1.0; }
+
+// Where the central mass sits in the file: the box centre, so that Coordinates lie in [0, BoxSize]^3,
+// the domain SWIFT readers (yt) assume. Positions in memory stay centred on the origin.
+double point_mass_offset(const SnapshotMeta& meta) { return written_box_size(meta) / 2; }
+
 void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) {
   h5::Handle g = h5::create_group(file, "Header");
   std::vector<std::uint64_t> npart(6, 0);
@@ -52,19 +60,24 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   h5::write_attr(g, "MassTable", std::vector<double>(6, 0.0));
   h5::write_attr(g, "Time", meta.time);
   h5::write_attr(g, "Redshift", 0.0);
-  // Open boundaries; readers such as yt divide by BoxSize, so it must be > 0: the extent of
-  // the particles (|x| <= BoxSize / 2 around the central mass).
-  h5::write_attr(g, "BoxSize", meta.box_size > 0 ? meta.box_size : 1.0);
+  // Open boundaries: the box only has to hold every particle and its kernel (SWIFT's three edges).
+  h5::write_attr(g, "BoxSize", std::vector<double>(3, written_box_size(meta)));
+  h5::write_attr(g, "PointMassPosition", std::vector<double>(3, point_mass_offset(meta)));
   h5::write_attr(g, "NumFilesPerSnapshot", 1LL);
-  // Non-cosmological run: GADGET readers (yt) expect these keys.
+  // Non-cosmological run: GADGET readers expect these keys.
   h5::write_attr(g, "Omega0", 0.0);
   h5::write_attr(g, "OmegaLambda", 0.0);
   h5::write_attr(g, "HubbleParam", 1.0);
   h5::write_attr(g, "Flag_DoublePrecision", 1LL);  // the datasets: doubles in every build
   // 1: a build with SPHDISK_SINGLE_PRECISION_FIELDS, whose Density values are floats (widened).
   h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
-  h5::write_attr(g, "Dimension", static_cast<long long>(dim));
-  h5::write_attr(g, "Code", std::string("sphdisk"));
+  // Dimension is that of the Coordinates (yt 4.1 cannot index a SWIFT file with Dimension 2); the
+  // run's own is SimulationDimension.
+  h5::write_attr(g, "Dimension", 3LL);
+  h5::write_attr(g, "SimulationDimension", static_cast<long long>(dim));
+  // Code selects the reader (yt's SWIFT frontend); CodeName says which code wrote the file.
+  h5::write_attr(g, "Code", std::string("SWIFT"));
+  h5::write_attr(g, "CodeName", std::string("sphdisk"));
   h5::write_attr(g, "CodeVersion", std::string(code_version()));
   h5::write_attr(g, "BuildOptions", build_options());
   h5::write_attr(g, "ViscousTime", meta.tau);
@@ -77,12 +90,28 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   if (!meta.problem.empty()) h5::write_attr(g, "Problem", meta.problem);
 }
 
+// The cgs value of each code unit, under GADGET's names and SWIFT's (the names yt's SWIFT frontend
+// reads; no temperature or current units: 1).
 void write_units(hid_t file, const UnitSystem& u) {
   h5::Handle g = h5::create_group(file, "Units");
   h5::write_attr(g, "UnitLength_in_cm", u.length_cm);
   h5::write_attr(g, "UnitMass_in_g", u.mass_g);
   h5::write_attr(g, "UnitTime_in_s", u.time_s);
   h5::write_attr(g, "UnitVelocity_in_cm_per_s", u.velocity_cm_per_s());
+  h5::write_attr(g, "Unit length in cgs (U_L)", u.length_cm);
+  h5::write_attr(g, "Unit mass in cgs (U_M)", u.mass_g);
+  h5::write_attr(g, "Unit time in cgs (U_t)", u.time_s);
+  h5::write_attr(g, "Unit temperature in cgs (U_T)", 1.0);
+  h5::write_attr(g, "Unit current in cgs (U_I)", 1.0);
+}
+
+// The groups a SWIFT reader opens besides Header, Units and Parameters: open boundaries, no
+// cosmology; the scheme groups stay empty.
+void write_swift_groups(hid_t file) {
+  h5::write_attr(h5::create_group(file, "RuntimePars"), "PeriodicBoundariesOn", 0LL);
+  h5::write_attr(h5::create_group(file, "Policy"), "cosmological integration", 0LL);
+  h5::create_group(file, "HydroScheme");
+  h5::create_group(file, "SubgridScheme");
 }
 
 // One snapshot dataset per field flagged kSnapshot (InternalEnergy only with energy).
@@ -98,10 +127,10 @@ constexpr std::size_t snapshot_columns() {
 }
 
 // Rows order[0..n) of one field, flattened to doubles (or IDs): snapshots hold doubles whatever the
-// storage precision (Header Flag_DoublePrecision).
+// storage precision (Header Flag_DoublePrecision). Vectors get `shift` added to each of their 3 columns.
 template <int D, class T>
 void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<std::size_t>& order, std::size_t first_row,
-                      hid_t transfer) {
+                      double shift, hid_t transfer) {
   const std::size_t n = order.size();
   if constexpr (std::is_same_v<T, std::uint64_t>) {
     std::vector<std::uint64_t> out(n);
@@ -113,9 +142,11 @@ void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<s
     for (std::size_t k = 0; k < n; ++k) {
       const T& v = field[order[k]];
       if constexpr (std::is_floating_point_v<T>) flat[k] = v;  // float fields (kReduced) widened exactly
-      else if constexpr (std::is_same_v<T, Vec<D>>)
+      else if constexpr (std::is_same_v<T, Vec<D>>) {
         for (int c = 0; c < D; ++c) flat[3 * k + static_cast<std::size_t>(c)] = v[c];
-      else std::copy(v.c.begin(), v.c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * cols));
+        if (shift != 0)
+          for (std::size_t c = 0; c < 3; ++c) flat[3 * k + c] += shift;
+      } else std::copy(v.c.begin(), v.c.end(), flat.begin() + static_cast<std::ptrdiff_t>(k * cols));
     }
     h5::write_rows(ds, flat.data(), first_row, n, cols, transfer);
   }
@@ -123,12 +154,22 @@ void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<s
 
 }  // namespace
 
+namespace {
+// w rounded up to 4 significant bits (exactly), so that BoxSize and PointMassPosition read as short
+// numbers and stay put while the particles' extent changes a little.
+double round_up_short(double w) {
+  if (!(w > 0) || !std::isfinite(w)) return w;
+  const double step = std::ldexp(1.0, std::ilogb(w) - 3);
+  return std::ceil(w / step) * step;
+}
+}  // namespace
+
 template <int D>
 double snapshot_box_size(const Particles<D>& p) {
-  double box = 0;
-  for (const auto& x : p.pos)
-    for (int c = 0; c < D; ++c) box = std::max(box, 2.0 * std::abs(x[c]));
-  return box;
+  double half = 0;  // the largest |x_c| + 2 h (the kernel's reach) over particles and axes
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int c = 0; c < D; ++c) half = std::max(half, std::abs(p.pos[i][c]) + 2.0 * static_cast<double>(p.h[i]));
+  return 2.0 * round_up_short(half);
 }
 
 template <int D>
@@ -138,13 +179,15 @@ void write_snapshot_share(const std::string& path, const Communicator& comm, std
     write_header(file, n, D, meta);
     write_units(file, meta.units);
     write_parameters(file, meta);
+    write_swift_groups(file);
     h5::Handle g = h5::create_group(file, "PartType0");
     particles.for_each_field([&](const FieldInfo& info, const auto& field) {
       using T = typename std::decay_t<decltype(field)>::value_type;
       if (!in_snapshot(info, meta)) return;
       const h5::Handle ds = h5::create_dataset(g, std::string(info.dataset), std::is_same_v<T, std::uint64_t>, n,
                                                snapshot_columns<T, D>());
-      write_field_rows<D>(ds, field, order, first_row, transfer);
+      const double shift = info.dataset == "Coordinates" ? point_mass_offset(meta) : 0.0;
+      write_field_rows<D>(ds, field, order, first_row, shift, transfer);
     });
   });
 }
@@ -178,6 +221,16 @@ void read_analysis_parameters(hid_t file, const std::string& path, SnapshotMeta&
     meta.units = UnitSystem{h5::read_attr_double(u, "UnitLength_in_cm", path), h5::read_attr_double(u, "UnitMass_in_g", path),
                             h5::read_attr_double(u, "UnitTime_in_s", path)};
   }
+}
+
+// Header PointMassPosition, which readers subtract from Coordinates (3 values, file units); files
+// without it hold positions relative to the central mass already.
+std::vector<double> point_mass_position(hid_t header, const std::string& path) {
+  if (!h5::has_attr(header, "PointMassPosition")) return std::vector<double>(3, 0.0);
+  std::vector<double> centre = h5::read_attr_doubles(header, "PointMassPosition", path);
+  if (centre.size() != 3 || !std::all_of(centre.begin(), centre.end(), [](double v) { return std::isfinite(v); }))
+    throw UserError("'" + path + "': Header/PointMassPosition must hold 3 finite values");
+  return centre;
 }
 
 template <int D>
@@ -215,6 +268,8 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
   read_analysis_parameters(file, path, meta);
   if (code_units && h5::exists(file, "Units")) meta.units = *code_units;  // the values were converted to them
 
+  const std::vector<double> centre = point_mass_position(header, path);
+
   h5::Handle g = h5::open_group(file, "PartType0", path);
   Particles<D> p;
   std::size_t n_file = 0;
@@ -246,10 +301,12 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
       } else if constexpr (std::is_same_v<T, Vec<D>>) {
         if (cols != 3 && cols != static_cast<std::size_t>(D))
           throw UserError("'" + path + "': PartType0/" + name + " must have 3 or " + std::to_string(D) + " columns");
+        const bool positions = name == "Coordinates";
         for (std::size_t k = 0; k < n; ++k) {
-          for (int c = 0; c < D; ++c) field[k][c] = raw[k * cols + static_cast<std::size_t>(c)] * scale;
+          auto value = [&](std::size_t c) { return raw[k * cols + c] - (positions ? centre[c] : 0.0); };
+          for (int c = 0; c < D; ++c) field[k][c] = value(static_cast<std::size_t>(c)) * scale;
           for (std::size_t c = D; c < cols; ++c)
-            if (raw[k * cols + c] != 0.0)
+            if (value(c) != 0.0)
               throw UserError("'" + path + "': PartType0/" + name + " has non-zero z components but the run is " + std::to_string(D) + "D");
         }
       }

@@ -1,8 +1,10 @@
 #pragma once
-// HDF5 snapshots in the GADGET-4 / SWIFT layout of docs/formats.md ("Snapshot files"), read by yt,
-// SPLASH and h5py tools. Datasets come from the particle field table (fields flagged kSnapshot);
-// particles are written in ID order, so the file does not depend on memory order, threads or ranks.
-// Files are written atomically: to a temporary name, flushed to disk, then renamed.
+// HDF5 snapshots in the GADGET-4 / SWIFT layout of docs/formats.md ("Snapshot files"), read by yt
+// (as SWIFT files) and h5py tools. Datasets come from the particle field table (fields flagged
+// kSnapshot); particles are written in ID order, so the file does not depend on memory order, threads
+// or ranks. Files are written atomically: to a temporary name, flushed to disk, then renamed.
+// Coordinates in a file lie in [0, BoxSize]^3 with the central mass at Header/PointMassPosition (the
+// box centre); in memory positions are relative to the central mass, and the reader subtracts it.
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,7 +25,7 @@ struct SnapshotMeta {
   double accreted_mass = 0;        // code units
   double accreted_angular_momentum = 0;
   long long step = 0;
-  double box_size = 0;             // set by the writer from the particle extent
+  double box_size = 0;             // set by the writer: snapshot_box_size
   bool energy = false;             // InternalEnergy written / present
   UnitSystem units{1, 1, 1};
   std::vector<std::pair<std::string, std::string>> parameters;  // resolved config (key, TOML text)
@@ -40,6 +42,8 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
 template <int D>
 void write_snapshot_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
                           const Particles<D>& particles, const std::vector<std::size_t>& order, const SnapshotMeta& meta);
+// The box edge written: twice the particles' largest |x_c| + 2 h (every kernel inside), rounded up
+// to 4 significant bits.
 template <int D>
 double snapshot_box_size(const Particles<D>& p);
 
