@@ -7,6 +7,7 @@ prints each one's projection on the analytic d ln Sigma / dr (1 = unbiased).
 
 Usage: density_slope.py SNAPSHOT.hdf5 [...]
 """
+import os
 import sys
 
 import h5py
@@ -14,6 +15,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from fit_viscous_time import sigma
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from snapshot_positions import positions  # noqa: E402  (Coordinates relative to the central mass)
 
 NORM = 10 / (7 * np.pi)  # 2D cubic spline
 
@@ -26,7 +30,7 @@ def dw_over_r(d, h):
 
 def slopes(path, sample=4000):
     with h5py.File(path) as f:
-        x = f["PartType0/Coordinates"][:, :2]
+        x = positions(f, 2)
         m = f["PartType0/Masses"][:]
         rho = f["PartType0/Density"][:]
         h = f["PartType0/SmoothingLength"][:]

@@ -9,11 +9,15 @@ that remains at tau* is error in the shape of the profile (noise, clumping), not
 The analytic solution (P98 eq. 11, Lynden-Bell & Pringle) is evaluated here independently of the
 C++ code, with scipy's exponentially scaled Bessel function.
 """
+import os
 import sys
 
 import h5py
 import numpy as np
 from scipy.special import ive
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from snapshot_positions import positions  # noqa: E402  (Coordinates relative to the central mass)
 
 EDGES = np.linspace(0.05, 2.05, 51)
 
@@ -34,7 +38,7 @@ def annulus_means(tau, mass):
 def fit(path):
     """(tau, L1 at tau, best-fit tau*, L1 at tau*) of one snapshot."""
     with h5py.File(path) as s:
-        x = s["PartType0/Coordinates"][:]
+        x = positions(s)
         m = s["PartType0/Masses"][:]
         tau = s["Header"].attrs["ViscousTime"]
         mass = s["Header"].attrs["DiskMass"]

@@ -6,11 +6,15 @@
      SPH gradient, against the Keplerian r dOmega/dr = -1.5 Omega (mean over particles with
      0.8 < r < 1.2): below 1 when neighbours move more alike than Kepler orbits would.
 Usage: bench/kernel_scale_bias.py SNAPSHOT [SNAPSHOT ...]   (cubic spline kernel, gather with own h)"""
+import os
 import sys
 import h5py
 import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import ive
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from snapshot_positions import positions  # noqa: E402  (Coordinates relative to the central mass)
 
 
 def dw_dq(q):  # cubic spline w'(q), 2D normalisation 10/(7 pi h^2) applied by the caller
@@ -20,7 +24,7 @@ def dw_dq(q):  # cubic spline w'(q), 2D normalisation 10/(7 pi h^2) applied by t
 def analyse(path, sample=6000):
     f = h5py.File(path, "r")
     header = dict(f["Header"].attrs)
-    x = f["PartType0/Coordinates"][:, :2]
+    x = positions(f, 2)
     v = f["PartType0/Velocities"][:, :2]
     m = f["PartType0/Masses"][:]
     rho = f["PartType0/Density"][:]

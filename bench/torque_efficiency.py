@@ -13,6 +13,7 @@ continuum's, below 1 when the ring spreads too slowly for its own profile. The p
 velocities set the SPH torque; the same positions with Kepler velocities (--kepler) separate what
 the positions do from what the velocities do.
 """
+import os
 import sys
 
 import h5py
@@ -20,12 +21,15 @@ import numpy as np
 
 from fit_viscous_time import fit, sigma
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from snapshot_positions import positions  # noqa: E402  (Coordinates relative to the central mass)
+
 EDGES = np.linspace(0.5, 1.5, 21)
 
 
 def efficiency(path):
     with h5py.File(path) as s:
-        x = s["PartType0/Coordinates"][:, :2]
+        x = positions(s, 2)
         a = s["PartType0/Acceleration"][:, :2]
         m = s["PartType0/Masses"][:]
         nu = s["Header"].attrs["KinematicViscosity"]

@@ -6,7 +6,8 @@
 
 The layout mirrors what `sphdisk run` writes (docs/formats.md, "Snapshot files"):
 OUTDIR/snapshot_000.hdf5 (tau = first value of --taus), snapshot_001.hdf5, ... in the
-GADGET-4/SWIFT-like HDF5 layout, plus OUTDIR/diagnostics.csv and, with --scaling, OUTDIR/scaling.csv.
+GADGET-4/SWIFT HDF5 layout (Coordinates in [0, BoxSize]^3 around Header/PointMassPosition), plus
+OUTDIR/diagnostics.csv and, with --scaling, OUTDIR/scaling.csv.
 
 Particles are drawn from the analytic viscous-ring solution (P98 eqs. 11-12, code units G = M = r0 = 1)
 at each tau: radii by inverse CDF of r Sigma(r), uniform azimuth, Keplerian + analytic radial velocity.
@@ -38,7 +39,6 @@ UNIT_TIME_S = math.sqrt(RSUN_CM**3 / (G_CGS * MSUN_G))
 NU_CODE = 3e-8 * UNIT_TIME_S  # 3e-8 Rsun^2/s in code units (Rsun^2 / time unit): ~4.778e-5
 DISK_MASS = 1e-10
 R_ACCRETION = 0.05
-BOX_SIZE = 6.0  # nominal extent written to the header; the ring test is not periodic
 
 
 def parse_args(argv):
@@ -168,9 +168,20 @@ def attr_value(v):
     return fixed_string(v) if isinstance(v, str) else v
 
 
-def write_header(f, n, time, accreted_mass, ring_attrs=None, problem=None):
-    """/Header of docs/formats.md. yt (4.1) needs NumPart_ThisFile, MassTable, Time, BoxSize (non-zero) and
-    NumFilesPerSnapshot; Code must be a fixed-length string. No cosmology attributes or Flag_* needed.
+def round_up_short(w):
+    """w rounded up to 4 significant bits, as sphdisk rounds the box (src/io/snapshot.cpp)."""
+    step = math.ldexp(1.0, math.frexp(w)[1] - 4)
+    return math.ceil(w / step) * step
+
+
+def box_size(pos, h):
+    """BoxSize as sphdisk writes it: twice the largest |x_c| + 2 h, rounded up (every kernel inside)."""
+    return 2.0 * round_up_short(float(np.max(np.abs(pos))) + 2.0 * h)
+
+
+def write_header(f, n, time, accreted_mass, box, ring_attrs=None, problem=None):
+    """/Header of docs/formats.md, in the layout yt's SWIFT frontend reads (Code "SWIFT" as a fixed-length
+    string, BoxSize of 3 values, Dimension 3); the central mass sits at the box centre.
     ring_attrs: the ring's ViscousTime, KinematicViscosity, RingRadius, DiskMass; problem: Header Problem."""
     h = f.create_group("Header")
     npart = np.array([n, 0, 0, 0, 0, 0], dtype=np.uint64)
@@ -180,10 +191,13 @@ def write_header(f, n, time, accreted_mass, ring_attrs=None, problem=None):
     h.attrs["MassTable"] = np.zeros(6, dtype=np.float64)
     h.attrs["Time"] = np.float64(time)
     h.attrs["Redshift"] = np.float64(0.0)
-    h.attrs["BoxSize"] = np.float64(BOX_SIZE)
+    h.attrs["BoxSize"] = np.full(3, box, dtype=np.float64)
+    h.attrs["PointMassPosition"] = np.full(3, box / 2, dtype=np.float64)
     h.attrs["NumFilesPerSnapshot"] = np.int32(1)
-    h.attrs["Dimension"] = np.int32(2)
-    h.attrs["Code"] = fixed_string("sphdisk")
+    h.attrs["Dimension"] = np.int32(3)
+    h.attrs["SimulationDimension"] = np.int32(2)
+    h.attrs["Code"] = fixed_string("SWIFT")
+    h.attrs["CodeName"] = fixed_string("sphdisk")
     if problem is not None:
         h.attrs["Problem"] = fixed_string(problem)
     for key, value in (ring_attrs or {}).items():
@@ -197,6 +211,19 @@ def write_units(f):
     u.attrs["UnitMass_in_g"] = np.float64(MSUN_G)
     u.attrs["UnitTime_in_s"] = np.float64(UNIT_TIME_S)
     u.attrs["UnitVelocity_in_cm_per_s"] = np.float64(RSUN_CM / UNIT_TIME_S)
+    u.attrs["Unit length in cgs (U_L)"] = np.float64(RSUN_CM)
+    u.attrs["Unit mass in cgs (U_M)"] = np.float64(MSUN_G)
+    u.attrs["Unit time in cgs (U_t)"] = np.float64(UNIT_TIME_S)
+    u.attrs["Unit temperature in cgs (U_T)"] = np.float64(1.0)
+    u.attrs["Unit current in cgs (U_I)"] = np.float64(1.0)
+
+
+def write_swift_groups(f):
+    """The groups yt's SWIFT frontend opens: open boundaries, no cosmology, empty scheme groups."""
+    f.create_group("RuntimePars").attrs["PeriodicBoundariesOn"] = np.int64(0)
+    f.create_group("Policy").attrs["cosmological integration"] = np.int64(0)
+    f.create_group("HydroScheme")
+    f.create_group("SubgridScheme")
 
 
 def write_parameters(f, params):
@@ -205,10 +232,10 @@ def write_parameters(f, params):
         g.attrs[key] = attr_value(value)
 
 
-def write_gas(f, pos, vel, acc, sigma, mass_each, h):
+def write_gas(f, pos, vel, acc, sigma, mass_each, h, centre):
     n = len(sigma)
     g = f.create_group("PartType0")
-    g.create_dataset("Coordinates", data=pos.astype(np.float64))
+    g.create_dataset("Coordinates", data=pos.astype(np.float64) + centre)
     g.create_dataset("Velocities", data=vel.astype(np.float64))
     g.create_dataset("Acceleration", data=acc.astype(np.float64))
     g.create_dataset("Masses", data=np.full(n, mass_each, dtype=np.float64))
@@ -222,11 +249,14 @@ def write_snapshot(path, rng, args, tau, params):
     frac = accreted_fraction(tau)
     pos, vel, acc, sigma = make_particles(rng, n, tau, args.noise)
     ring = {"ViscousTime": tau, "KinematicViscosity": NU_CODE, "RingRadius": 1.0, "DiskMass": DISK_MASS}
+    h = smoothing_length(n)
+    box = box_size(pos, h)
     with h5py.File(path, "w") as f:
-        write_header(f, n, tau / (12.0 * NU_CODE), frac * DISK_MASS, ring_attrs=ring)
+        write_header(f, n, tau / (12.0 * NU_CODE), frac * DISK_MASS, box, ring_attrs=ring)
         write_units(f)
         write_parameters(f, params)
-        write_gas(f, pos, vel, acc, sigma, DISK_MASS * (1.0 - frac) / n, smoothing_length(n))
+        write_swift_groups(f)
+        write_gas(f, pos, vel, acc, sigma, DISK_MASS * (1.0 - frac) / n, h, box / 2)
 
 
 def disc_accreted(args, time):
@@ -240,11 +270,13 @@ def write_disc_snapshot(path, rng, args, time, params):
     pos, vel, acc, sigma = make_disc_particles(rng, n, args.inflow, args.noise)
     mass_each = (DISK_MASS - accreted) / n
     h = 1.3 * np.sqrt(mass_each / sigma_disc(np.hypot(pos[:, 0], pos[:, 1])))
+    box = box_size(pos, float(np.max(h)))
     with h5py.File(path, "w") as f:
-        write_header(f, n, time, accreted, problem="disc")
+        write_header(f, n, time, accreted, box, problem="disc")
         write_units(f)
         write_parameters(f, params)
-        write_gas(f, pos, vel, acc, sigma, mass_each, h)
+        write_swift_groups(f)
+        write_gas(f, pos, vel, acc, sigma, mass_each, h, box / 2)
 
 
 DIAG_COLUMNS = ["step", "time", "tau", "dt", "particles", "mass", "accreted_mass", "kinetic_energy",
