@@ -166,9 +166,14 @@ double round_up_short(double w) {
 
 template <int D>
 double snapshot_box_size(const Particles<D>& p) {
-  double half = 0;  // the largest |x_c| + 2 h (the kernel's reach) over particles and axes
+  // The largest |x_c| + 2 h (the kernel's reach) over particles and axes; non-finite values (a debug
+  // dump's) are left out, so that the other particles keep finite Coordinates.
+  double half = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
-    for (int c = 0; c < D; ++c) half = std::max(half, std::abs(p.pos[i][c]) + 2.0 * static_cast<double>(p.h[i]));
+    for (int c = 0; c < D; ++c) {
+      const double reach = std::abs(p.pos[i][c]) + 2.0 * static_cast<double>(p.h[i]);
+      if (std::isfinite(reach)) half = std::max(half, reach);
+    }
   return 2.0 * round_up_short(half);
 }
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <fstream>
+#include <limits>
 
 #include "core/error.hpp"
 #include "io/hdf5_util.hpp"
@@ -125,6 +126,18 @@ TEST(Snapshot, CoordinatesLieInTheBoxAroundThePointMass) {
   const double extent = 1.5 + 2 * 0.0209;  // the largest |x_c| + 2 h is below this
   EXPECT_LE(box[0], 2 * extent * 1.125);
   EXPECT_EQ(std::ldexp(box[0], -std::ilogb(box[0]) + 3), std::floor(std::ldexp(box[0], -std::ilogb(box[0]) + 3)));
+}
+
+// A debug dump of a run gone wrong: an infinite position leaves the box finite, so the other
+// particles keep their Coordinates.
+TEST(Snapshot, NonFinitePositionsLeaveTheBoxFinite) {
+  auto p = centred_particles();
+  p.pos[3] = Vec<2>{{0.0, 0.0}};
+  p.pos[4] = Vec<2>{{0.0, 0.0}};
+  const double box = snapshot_box_size(p);
+  p.pos[3][0] = std::numeric_limits<double>::infinity();
+  p.pos[4][1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(snapshot_box_size(p), box);  // the non-finite ones are left out
 }
 
 // What yt's SWIFT frontend reads: Code "SWIFT" (sphdisk's name in CodeName), Dimension 3, SWIFT's unit
