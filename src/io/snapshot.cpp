@@ -114,6 +114,14 @@ void write_swift_groups(hid_t file) {
   h5::create_group(file, "SubgridScheme");
 }
 
+// w rounded up to 4 significant bits (exactly), so that BoxSize and PointMassPosition read as short
+// numbers and stay put while the particles' extent changes a little.
+double round_up_short(double w) {
+  if (!(w > 0) || !std::isfinite(w)) return w;
+  const double step = std::ldexp(1.0, std::ilogb(w) - 3);
+  return std::ceil(w / step) * step;
+}
+
 // One snapshot dataset per field flagged kSnapshot (InternalEnergy only with energy).
 bool in_snapshot(const FieldInfo& info, const SnapshotMeta& meta) {
   return (info.flags & kSnapshot) && !((info.flags & kEnergyOnly) && !meta.energy);
@@ -152,16 +160,6 @@ void write_field_rows(hid_t ds, const std::vector<T>& field, const std::vector<s
   }
 }
 
-}  // namespace
-
-namespace {
-// w rounded up to 4 significant bits (exactly), so that BoxSize and PointMassPosition read as short
-// numbers and stay put while the particles' extent changes a little.
-double round_up_short(double w) {
-  if (!(w > 0) || !std::isfinite(w)) return w;
-  const double step = std::ldexp(1.0, std::ilogb(w) - 3);
-  return std::ceil(w / step) * step;
-}
 }  // namespace
 
 template <int D>
