@@ -169,11 +169,26 @@ class Run:
     notes: list = field(default_factory=list)
 
 
+def check_one_run(snapshots, headers):
+    """Refuses snapshots of different runs side by side (Header RunID, which sphdisk derives from the
+    settings that decide the results; files without one are not compared)."""
+    ids = {}
+    for path, header in zip(snapshots, headers):
+        run_id = header.get("RunID")
+        if run_id:
+            ids.setdefault(str(run_id), os.path.basename(path))
+    if len(ids) > 1:
+        (a, fa), (b, fb) = list(ids.items())[:2]
+        raise UsageError(f"snapshots of different runs in one directory: {fa} (run {a}) and {fb} (run {b}); "
+                         "rerun with --overwrite, or move one run's files elsewhere")
+
+
 def load_run(run_dir):
     """Snapshot list, headers, the first snapshot's /Parameters and /Units, and the run's CSV and JSON
     files; r0 is Header RingRadius, else the code length unit."""
     snapshots = find_snapshots(run_dir)
     headers = [read_header(p) for p in snapshots]
+    check_one_run(snapshots, headers)
     params = read_attrs(snapshots[0], "Parameters") or {}
     ring_run = is_ring_run(headers[0], params)
     r0 = float(headers[0].get("RingRadius") or 1.0)

@@ -18,6 +18,7 @@
 
 #include "app/diagnostics.hpp"
 #include "app/rate_evaluator.hpp"
+#include "app/run_identity.hpp"
 #include "app/smoothing_calibration.hpp"
 #include "core/error.hpp"
 #include "core/large_allocations.hpp"
@@ -284,6 +285,7 @@ class Runner {
     meta_.units = setup_.units;
     meta_.parameters = cfg.resolved;
     meta_.problem = cfg.initial_conditions.empty() ? "ring" : "initial_conditions";
+    meta_.run_id = run_identity(cfg);
     if (distributed()) rates_.set_domain(&domain_);
     rates_.set_list_skin(cfg.list_skin);
     rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));

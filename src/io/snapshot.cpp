@@ -88,6 +88,7 @@ void write_header(hid_t file, std::size_t n, int dim, const SnapshotMeta& meta) 
   h5::write_attr(g, "AccretedAngularMomentum", meta.accreted_angular_momentum);
   h5::write_attr(g, "Step", meta.step);
   if (!meta.problem.empty()) h5::write_attr(g, "Problem", meta.problem);
+  if (!meta.run_id.empty()) h5::write_attr(g, "RunID", meta.run_id);
 }
 
 // The cgs value of each code unit, under GADGET's names and SWIFT's (the names yt's SWIFT frontend
@@ -268,6 +269,7 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
   meta.accreted_mass *= fm;
   meta.accreted_angular_momentum *= fm * fl * fl / ft;
   meta.problem = h5::has_attr(header, "Problem") ? h5::read_attr_string(header, "Problem", path) : "";
+  meta.run_id = h5::has_attr(header, "RunID") ? h5::read_attr_string(header, "RunID", path) : "";
   read_analysis_parameters(file, path, meta);
   if (code_units && h5::exists(file, "Units")) meta.units = *code_units;  // the values were converted to them
 

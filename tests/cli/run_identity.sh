@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Outputs of two runs never mix: every snapshot records the run's identity (Header RunID, from the
+# settings that decide the results); runs of the same settings share it, a resume keeps it, other
+# settings change it, and `sphdisk report` refuses a directory holding snapshots of two runs.
+# Usage: run_identity.sh SPHDISK
+set -uo pipefail
+exe=$1
+config="$(dirname "$0")/../validation/small_ring.toml"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+run_id() { /usr/bin/python3 -c "import h5py,sys; print(h5py.File(sys.argv[1])['Header'].attrs['RunID'].decode())" "$1"; }
+common=(-q --set problem.particles=1500 --set 'output.tau=[0.0183, 0.0186]' --set output.progress_interval=0)
+
+"$exe" run "$config" "${common[@]}" -o "$work/a" > /dev/null
+"$exe" run "$config" "${common[@]}" -o "$work/b" --threads 1 --set checkpoint.every_steps=3 > /dev/null
+"$exe" run "$config" "${common[@]}" -o "$work/c" --set problem.particles=1200 > /dev/null
+"$exe" run "$config" "${common[@]}" -o "$work/d" --set run.max_steps=2 > /dev/null
+"$exe" resume "$work/d" -q --set run.max_steps=0 > /dev/null
+a0=$(run_id "$work/a/snapshot_000.hdf5")
+check "RunID is 16 hex digits ($a0)" '[[ "$a0" =~ ^[0-9a-f]{16}$ ]]'
+check "every snapshot of a run has the same RunID" '[ "$(run_id "$work/a/snapshot_002.hdf5")" = "$a0" ]'
+check "the same settings on other threads, checkpoint cadence and directory: the same RunID" \
+  '[ "$(run_id "$work/b/snapshot_002.hdf5")" = "$a0" ]'
+check "a resumed run keeps its RunID" '[ "$(run_id "$work/d/snapshot_002.hdf5")" = "$a0" ]'
+check "other particle numbers: another RunID" '[ "$(run_id "$work/c/snapshot_000.hdf5")" != "$a0" ]'
+
+"$exe" report "$work/a" > /dev/null 2>&1
+check "report of one run works" '[ -f "$work/a/report/report.md" ]'
+cp "$work/c/snapshot_002.hdf5" "$work/a/snapshot_002.hdf5"
+err=$("$exe" report "$work/a" 2>&1 > /dev/null)
+code=$?
+check "report refuses snapshots of two runs: exit non-zero, one line naming both (exit $code: $err)" \
+  '[ $code -ne 0 ] && [ "$(wc -l <<< "$err")" -eq 1 ] && grep -q "snapshots of different runs" <<< "$err"'
+exit $fail
