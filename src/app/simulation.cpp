@@ -772,6 +772,10 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
+    if (!fs::exists(cfg.initial_conditions))
+      throw UserError("problem.initial_conditions: no file '" + cfg.initial_conditions +
+                      "' (a relative path is taken from the configuration file's directory, or with --set from the "
+                      "current directory)");
     // Each rank reads 1/P of the file's rows; the decomposition then sends each to its owner.
     SnapshotMeta meta;
     const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -333,10 +334,18 @@ void check_consistency(const Config& c) {
                     "evaluations reorder the particles, so lists are rebuilt every time); set sph.list_skin = 0");
 }
 
+// An input file's path as the run will open it: a relative one taken from `from` (a configuration
+// file's directory, or the current one), made absolute so that config.toml and checkpoints name the
+// same file wherever they are read.
+std::string input_path(const std::string& path, const std::filesystem::path& from) {
+  if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
+  return std::filesystem::absolute(from / path).lexically_normal().string();
+}
+
 }  // namespace
 
 Config parse_config(const std::string& toml_text_in, const std::string& source_name,
-                    const std::vector<std::string>& overrides) {
+                    const std::vector<std::string>& overrides, const std::string& text_dir) {
   Config c;
   check_toml_characters(toml_text_in, source_name);
   toml::table table;
@@ -352,6 +361,7 @@ Config parse_config(const std::string& toml_text_in, const std::string& source_n
   std::vector<std::pair<std::string, const toml::node*>> entries;
   flatten(table, "", entries);
   for (const auto& [name, node] : entries) apply_node(name, *node, c, source_name);
+  if (!text_dir.empty()) c.initial_conditions = input_path(c.initial_conditions, text_dir);
 
   for (const std::string& o : overrides) {
     const auto eq = o.find('=');
@@ -366,6 +376,7 @@ Config parse_config(const std::string& toml_text_in, const std::string& source_n
       one = toml::table{{"v", value}};  // a bare word is a string: --set integrator.scheme=rk23
     }
     apply_node(key, *one.get("v"), c, "--set " + key);
+    if (key == "problem.initial_conditions") c.initial_conditions = input_path(c.initial_conditions, ".");
   }
   check_consistency(c);
 
@@ -394,7 +405,8 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     ss << in.rdbuf();
     text = ss.str();
   }
-  return parse_config(text, path.empty() ? "defaults" : path, overrides);
+  const std::string dir = path.empty() ? "" : std::filesystem::absolute(path).parent_path().string();
+  return parse_config(text, path.empty() ? "defaults" : path, overrides, dir);
 }
 
 std::string config_reference() {

@@ -73,13 +73,16 @@ struct Config {
   std::vector<std::pair<std::string, std::string>> resolved;
 };
 
-// Loads `path` (may be empty: defaults only) and applies overrides "section.key=value".
-// Throws UserError with a one-line message on any problem.
+// Loads `path` (may be empty: defaults only) and applies overrides "section.key=value"; a
+// relative initial-conditions path in the file is taken from the file's directory. Throws
+// UserError with a one-line message on any problem.
 Config load_config(const std::string& path, const std::vector<std::string>& overrides);
 
-// Parses TOML text (used by load_config and the fuzz target).
+// Parses TOML text (used by load_config and the fuzz target). A relative problem.initial_conditions
+// in the text is taken from the directory `text_dir` (that of the file holding it; "": left as
+// written), one given in `overrides` from the current directory; either is then stored absolute.
 Config parse_config(const std::string& toml_text, const std::string& source_name,
-                    const std::vector<std::string>& overrides);
+                    const std::vector<std::string>& overrides, const std::string& text_dir = "");
 
 // All keys with their help text, for `sphdisk run --help-config`.
 std::string config_reference();

@@ -1,6 +1,8 @@
 // Configuration: defaults, overrides, and one-line errors naming the key for bad input.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "core/config.hpp"
 #include "core/error.hpp"
 
@@ -85,6 +87,25 @@ TEST(Config, ErrorsAreOneLine) {
 
 TEST(Config, MissingFileIsAUserError) {
   EXPECT_THROW(load_config("/nonexistent/ring.toml", {}), UserError);
+}
+
+// An initial-conditions path in a configuration file is taken from that file's directory, one on
+// the command line from the current directory; both are stored absolute, absolute ones as given.
+TEST(Config, InitialConditionsPathRelativeToItsSource) {
+  const std::string cwd = std::filesystem::current_path().string();
+  EXPECT_EQ(parse_config("problem.initial_conditions = \"ic/a.hdf5\"\n", "/data/set/x.toml", {}, "/data/set").initial_conditions,
+            "/data/set/ic/a.hdf5");
+  EXPECT_EQ(parse_config("problem.initial_conditions = \"../a.hdf5\"\n", "/data/set/x.toml", {}, "/data/set").initial_conditions,
+            "/data/a.hdf5");
+  EXPECT_EQ(parse_config("problem.initial_conditions = \"/abs/a.hdf5\"\n", "x.toml", {}, "/data/set").initial_conditions,
+            "/abs/a.hdf5");
+  const Config set = parse_config("problem.initial_conditions = \"a.hdf5\"\n", "/data/set/x.toml",
+                                  {"problem.initial_conditions=\"b.hdf5\""}, "/data/set");
+  EXPECT_EQ(set.initial_conditions, (std::filesystem::path(cwd) / "b.hdf5").string());
+  EXPECT_NE(set.resolved_toml.find("initial_conditions = \"" + set.initial_conditions + "\""), std::string::npos);
+  // Text without a directory (a checkpoint's stored configuration) keeps its path as written.
+  EXPECT_EQ(parse_config("problem.initial_conditions = \"a.hdf5\"\n", "checkpoint.hdf5", {}).initial_conditions, "a.hdf5");
+  EXPECT_EQ(parse_config("", "x.toml", {}, "/data/set").initial_conditions, "");
 }
 
 // Strings open only where TOML lets them begin; quoted text (non-ASCII included) elsewhere is
