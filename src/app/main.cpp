@@ -215,11 +215,13 @@ int main(int argc, char** argv) {
       const auto summary = sphdisk::run_simulation(cfg, opts);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary);
-      // The accuracy table of the last snapshot (the README's main job ends with it).
+      // The accuracy table of the last output's snapshot (the README's main job ends with it); a run
+      // stopped by run.max_steps has not reached it.
       char last[64];
       std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_count());
       const auto path = std::filesystem::path(summary.output_dir) / last;
-      if (std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty())) return cmd_analyze(path.string(), "", 50);
+      if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty()))
+        return cmd_analyze(path.string(), "", 50);
       return 0;
     }
     if (*resume) {

@@ -397,6 +397,7 @@ class Runner {
     meta_.accreted_angular_momentum = s_.accreted_angular_momentum;
     meta_.step = s_.step;
     write_snapshot(domain_.comm(), snapshot_name(dir_, k), p_, meta_);
+    last_output_step_ = s_.step;
   }
 
   // Stops on NaN/Inf, keeping the evidence in a debug dump; the last good checkpoint is untouched.
@@ -575,6 +576,7 @@ class Runner {
   double trace_origin_us_ = 0;
   Clock::time_point wall_start_ = Clock::now(), last_progress_ = Clock::now(), last_checkpoint_ = Clock::now();
   long long last_checkpoint_step_ = -1;  // -1: none yet
+  long long last_output_step_ = -1;      // the step of the last snapshot written (-1: none yet)
   long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
   Counters steps_begin_, steps_end_;     // at the first step of advance() and after its last
   struct {
@@ -663,9 +665,12 @@ RunSummary Runner::advance() {
   steps_end_ = counters_now();
   std::signal(SIGTERM, old_term);
   std::signal(SIGINT, old_int);
-  // Stopped by run.max_steps before the last output: a checkpoint, so that `sphdisk resume` continues.
-  if (!interrupted && static_cast<std::size_t>(s_.next_output) < t_out_.size() && last_checkpoint_step_ != s_.step)
-    write_checkpoint_now();
+  // Stopped by run.max_steps before the last output: the state then goes into the snapshot of the
+  // next output, which `sphdisk resume` replaces when it reaches that output (so the numbering stays
+  // that of output.tau), and into a checkpoint to resume from (docs/formats.md, "Run directory").
+  const bool stopped_early = !interrupted && static_cast<std::size_t>(s_.next_output) < t_out_.size();
+  if (stopped_early && last_output_step_ != s_.step) write_output(static_cast<std::size_t>(s_.next_output) + 1);
+  if (stopped_early && last_checkpoint_step_ != s_.step) write_checkpoint_now();
   on_root([&] {
     csv_.close();
     if (!csv_) throw UserError("cannot finish writing diagnostics.csv in '" + dir_ + "' (disk full?)");
@@ -679,6 +684,7 @@ RunSummary Runner::advance() {
   sum.particle_updates_per_second = static_cast<double>(advance_.updates) / sum.wall_seconds;
   sum.output_dir = dir_;
   sum.interrupted = interrupted;
+  sum.stopped_early = stopped_early;
   sum.abandoned = abandoned;
   sum.checkpoint_step = last_checkpoint_step_;
   sum.checkpoint_inside_step = s_.step_state;
@@ -701,6 +707,12 @@ RunSummary Runner::advance() {
                  interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
                  sum.particle_updates_per_second, sum.particle_updates_per_second / (par::max_threads() * domain_.comm().size()),
                  domain_.comm().size(), integrator_->rejected_steps());
+    if (stopped_early)
+      std::fprintf(stderr,
+                   "stopped by run.max_steps at step %lld, tau %.6g: state in %s and %s; continue with: sphdisk resume %s "
+                   "(each resume takes up to run.max_steps steps; --set run.max_steps=0 runs to the end)\n",
+                   s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, static_cast<std::size_t>(s_.next_output) + 1).c_str(),
+                   kCheckpointName, dir_.c_str());
   }
   return sum;
 }

@@ -25,6 +25,7 @@ struct RunSummary {
   std::string output_dir;
   bool interrupted = false;  // stopped by SIGTERM/SIGINT after writing a checkpoint, or (abandoned) without
   bool abandoned = false;    // stopped by a second signal inside a step, which was not saved
+  bool stopped_early = false;  // stopped by run.max_steps before the last output time
   long long checkpoint_step = -1;  // the step of the run's last checkpoint (-1: none yet)
   bool checkpoint_inside_step = false;  // that checkpoint was written inside the next step's block cycle
 };
