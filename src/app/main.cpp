@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "app/ring_analysis.hpp"
+#include "app/run_log.hpp"
 #include "app/simulation.hpp"
 #include "app/disc_profiles.hpp"
 #include "app/sweep.hpp"
@@ -28,6 +29,7 @@
 
 namespace {
 
+// The comparison with the analytic ring; at the end of a run also into its run.log.
 int cmd_analyze(const std::string& path, const std::string& json_path, int bins) {
   sphdisk::SnapshotMeta meta;
   // Kept in the file's own code units, in which the ring header values are given.
@@ -42,6 +44,7 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
     table = sphdisk::disc_profiles_table(d), json = sphdisk::disc_profiles_json(d);
   }
   std::cout << table;
+  sphdisk::run_log::write(table);
   if (!json_path.empty()) {
     std::ofstream f(json_path);
     f << json;
@@ -53,7 +56,7 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
 // A run stopped by SIGTERM/SIGINT (with its checkpoint written, or, after a second signal inside a
 // block cycle, from its last one): exit 75 (EX_TEMPFAIL, "try again").
 int report_interrupted(const sphdisk::RunSummary& summary) {
-  std::fprintf(stderr, "sphdisk: %s\n", sphdisk::interruption_note(summary).c_str());
+  sphdisk::run_log::print(stderr, "sphdisk: %s\n", sphdisk::interruption_note(summary).c_str());
   return 75;
 }
 
@@ -83,6 +86,7 @@ int cmd_report(const std::string& dir) {
     own = true;
   }
   if (!quiet && own) {
+    sphdisk::run_log::write("sphdisk: " + std::string(kind) + ": " + sphdisk::one_line(what) + "\n");
     if (world.size() > 1)
       std::fprintf(stderr, "sphdisk (rank %d): %s: %s\n", world.rank(), kind, sphdisk::one_line(what).c_str());
     else
@@ -133,6 +137,19 @@ std::string closest_word(const CLI::App& app, int argc, char** argv) {
     }
   }
   return "";
+}
+
+// The command as typed, a word quoted for the shell where it needs it (for run.log).
+std::string command_line(int argc, char** argv) {
+  const char* plain = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-+=/.,:@%";
+  std::string line;
+  for (int k = 0; k < argc; ++k) {
+    const std::string word = argv[k];
+    std::string quoted = "'";
+    for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    line += (k ? " " : "") + (!word.empty() && word.find_first_not_of(plain) == std::string::npos ? word : quoted + "'");
+  }
+  return line;
 }
 
 }  // namespace
@@ -211,7 +228,7 @@ int main(int argc, char** argv) {
         std::cout << cfg.resolved_toml;
         return 0;
       }
-      sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet};
+      const sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet, false, command_line(argc, argv)};
       const auto summary = sphdisk::run_simulation(cfg, opts);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary);
@@ -226,14 +243,14 @@ int main(int argc, char** argv) {
     }
     if (*resume) {
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
-      sphdisk::RunOptions opts{run_dir, false, trace_file, quiet};
+      const sphdisk::RunOptions opts{run_dir, false, trace_file, quiet, false, command_line(argc, argv)};
       const auto summary = sphdisk::resume_simulation(run_dir, opts, overrides);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;
       if (summary.interrupted) return report_interrupted(summary);
       return 0;
     }
     if (*sweep) {
-      const auto s = sphdisk::run_sweep(study_path, overwrite);
+      const auto s = sphdisk::run_sweep(study_path, overwrite, command_line(argc, argv));
       if (!sphdisk::Communicator::world().is_root()) return 0;
       std::printf("sweep: %zu runs, %zu succeeded, %zu failed%s; attempts in %s\n", s.runs, s.succeeded, s.failed,
                   s.interrupted ? ", interrupted by a signal" : "", s.csv_path.c_str());

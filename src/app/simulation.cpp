@@ -19,6 +19,7 @@
 #include "app/diagnostics.hpp"
 #include "app/rate_evaluator.hpp"
 #include "app/run_identity.hpp"
+#include "app/run_log.hpp"
 #include "app/smoothing_calibration.hpp"
 #include "core/error.hpp"
 #include "core/large_allocations.hpp"
@@ -104,7 +105,7 @@ bool written_by_a_run(const std::string& name) {
   };
   return (starts("snapshot_") && ends(".hdf5")) || (starts("debug_step_") && ends(".hdf5")) || starts(kCheckpointName) ||
          name == kDiagnosticsName || name == "config.toml" || name == "timers.json" || name == "ranks.json" ||
-         name == "report";
+         name == run_log::kName || name == "report";
 }
 
 void remove_earlier_run(const std::string& dir) {
@@ -330,9 +331,9 @@ class Runner {
     }
     if (integrator_->needs_rate_state() && !s_.rate_state) {
       if (root())
-        std::fprintf(stderr, "sphdisk: note: the checkpoint holds no density and stress of its last evaluation "
-                             "(another scheme, or an older sphdisk); they are evaluated anew, so the run continues "
-                             "correctly but not bit for bit\n");
+        run_log::print(stderr, "sphdisk: note: the checkpoint holds no density and stress of its last evaluation "
+                               "(another scheme, or an older sphdisk); they are evaluated anew, so the run continues "
+                               "correctly but not bit for bit\n");
       integrator_->start(p_);
     }
     if (root()) truncate_diagnostics(dir_, s_.step);
@@ -512,22 +513,25 @@ class Runner {
 
   double wall() const { return std::chrono::duration<double>(Clock::now() - wall_start_).count(); }
 
+  // Where the root process's lines go besides run.log: stderr, unless --quiet.
+  std::FILE* terminal() const { return opts_.quiet ? nullptr : stderr; }
+
   // A progress line at most every output.progress_interval seconds: at the end of a step, or
   // inside one (`within`: the fraction of the step's time done, `in_step` the particle updates so
-  // far) at simulated time `time`.
+  // far) at simulated time `time`. Into run.log also with --quiet.
   void progress(long long step, double time, double dt, double within = -1, std::size_t in_step = 0) {
     const auto now = Clock::now();
-    if (!root() || opts_.quiet || cfg_.progress_interval <= 0 ||
+    if (!root() || cfg_.progress_interval <= 0 ||
         std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
       return;
     last_progress_ = now;
     const double frac = (time - advance_.t_begin) / (t_out_.back() - advance_.t_begin);
     char inside[64] = "";
     if (within >= 0) std::snprintf(inside, sizeof inside, "  (%.1f%% into the step's block cycle)", 100 * within);
-    std::fprintf(stderr, "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
-                 setup_.tau_of_time(time), 100 * frac, dt, advance_.particles,
-                 static_cast<double>(advance_.updates + in_step) / wall(),
-                 format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
+    run_log::print(terminal(), "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
+                   setup_.tau_of_time(time), 100 * frac, dt, advance_.particles,
+                   static_cast<double>(advance_.updates + in_step) / wall(),
+                   format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
   }
 
   // Between the substeps of a long step (a block cycle; at 10M particles one can take hours):
@@ -552,8 +556,8 @@ class Runner {
     }
     if (stop) {
       if (root())
-        std::fprintf(stderr, "sphdisk: stop requested: checkpoint written %.0f%% into the block cycle of step %lld\n",
-                     100 * done / length, s_.step + 1);
+        run_log::print(stderr, "sphdisk: stop requested: checkpoint written %.0f%% into the block cycle of step %lld\n",
+                       100 * done / length, s_.step + 1);
       throw StepLeft{true};
     }
     const std::size_t in_step = updates_in_step();
@@ -698,21 +702,21 @@ RunSummary Runner::advance() {
     if (!opts_.trace_file.empty() && !par::trace_write(opts_.trace_file, traces))
       throw UserError("cannot write trace file '" + opts_.trace_file + "'");
   });
-  if (root() && !opts_.quiet) {
-    std::fprintf(stderr, "phase timers (rank 0 of %d, %d threads, vector loops: %s):\n%s", domain_.comm().size(),
-                 par::max_threads(), vector_isa_name(vector_isa()), timers_.table().c_str());
-    std::fprintf(stderr,
-                 "%s: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
-                 "(%.3g per thread over %d rank(s)), %zu rejected steps\n",
-                 interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
-                 sum.particle_updates_per_second, sum.particle_updates_per_second / (par::max_threads() * domain_.comm().size()),
-                 domain_.comm().size(), integrator_->rejected_steps());
+  if (root()) {  // to the terminal unless --quiet, to run.log always
+    run_log::print(terminal(), "phase timers (rank 0 of %d, %d threads, vector loops: %s):\n%s", domain_.comm().size(),
+                   par::max_threads(), vector_isa_name(vector_isa()), timers_.table().c_str());
+    run_log::print(terminal(),
+                   "%s: %lld steps, %zu rate evaluations, %zu particles left, wall %.2f s, %.3g particle-updates/s "
+                   "(%.3g per thread over %d rank(s)), %zu rejected steps\n",
+                   interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
+                   sum.particle_updates_per_second, sum.particle_updates_per_second / (par::max_threads() * domain_.comm().size()),
+                   domain_.comm().size(), integrator_->rejected_steps());
     if (stopped_early)
-      std::fprintf(stderr,
-                   "stopped by run.max_steps at step %lld, tau %.6g: state in %s and %s; continue with: sphdisk resume %s "
-                   "(each resume takes up to run.max_steps steps; --set run.max_steps=0 runs to the end)\n",
-                   s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, static_cast<std::size_t>(s_.next_output) + 1).c_str(),
-                   kCheckpointName, dir_.c_str());
+      run_log::print(terminal(),
+                     "stopped by run.max_steps at step %lld, tau %.6g: state in %s and %s; continue with: sphdisk resume %s "
+                     "(each resume takes up to run.max_steps steps; --set run.max_steps=0 runs to the end)\n",
+                     s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, static_cast<std::size_t>(s_.next_output) + 1).c_str(),
+                     kCheckpointName, dir_.c_str());
   }
   return sum;
 }
@@ -734,10 +738,10 @@ void warn_if_threads_share_cpus(const Communicator& comm, const RunOptions& opts
   const int threads = par::max_threads(), cpus = par::cpus_available();
   const long online = sysconf(_SC_NPROCESSORS_ONLN);  // more threads than the machine's cores is the user's choice
   if (opts.quiet || !comm.is_root() || threads <= cpus || cpus >= online) return;
-  std::fprintf(stderr,
-               "sphdisk: warning: %d threads but this process may run on %d CPU(s), so threads will take turns; "
-               "with mpirun, give each rank its cores: --map-by slot:PE=%d (or use fewer threads)\n",
-               threads, cpus, threads);
+  run_log::print(stderr,
+                 "sphdisk: warning: %d threads but this process may run on %d CPU(s), so threads will take turns; "
+                 "with mpirun, give each rank its cores: --map-by slot:PE=%d (or use fewer threads)\n",
+                 threads, cpus, threads);
 }
 
 // The global h giving `neighbours` neighbours on average over all ranks' particles. Over ranks the
@@ -780,7 +784,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
 
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   check_list_reuse(comm, cfg);
-  warn_if_threads_share_cpus(comm, opts);
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
@@ -817,7 +820,10 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     prepare_output_dir(dir, opts.overwrite);
     if (opts.overwrite) remove_earlier_run(dir);
     write_text_file(dir, "config.toml", cfg.resolved_toml);
+    run_log::open(dir);
+    run_log::write(run_log::header("run", opts.command_line, comm.size(), par::max_threads()));
   });
+  warn_if_threads_share_cpus(comm, opts);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.start();
   return runner.advance();
@@ -844,6 +850,13 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   state.config_toml = cfg.resolved_toml;
   check_list_reuse(comm, cfg);
   apply_run_options(cfg, opts);
+  run_on_root(comm, [&] {
+    char what[96];
+    std::snprintf(what, sizeof what, "resume from step %lld (tau %.6g)", state.step,
+                  make_setup(cfg).tau_of_time(state.time));
+    run_log::open(dir);
+    run_log::write(run_log::header(what, opts.command_line, comm.size(), par::max_threads()));
+  });
   warn_if_threads_share_cpus(comm, opts);
   Runner runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();

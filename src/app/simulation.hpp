@@ -14,6 +14,7 @@ struct RunOptions {
   std::string trace_file;   // Chrome trace JSON, "" for none
   bool quiet = false;       // no progress lines
   bool one_process = false; // this rank alone, even under mpirun (a run of a sweep)
+  std::string command_line; // the command as typed, for run.log
 };
 
 struct RunSummary {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "app/run_log.hpp"
 #include "app/simulation.hpp"
 #include "core/config.hpp"
 #include "core/error.hpp"
@@ -86,7 +87,7 @@ Study read_study(const std::string& path) {
 
 }  // namespace
 
-SweepSummary run_sweep(const std::string& study_path, bool overwrite) {
+SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std::string& command_line) {
   const Study study = read_study(study_path);
   // Every run's configuration is checked here, on every rank, before any run starts.
   std::vector<Config> configs;
@@ -122,7 +123,16 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite) {
         opts.overwrite = true;  // checked above; a retried attempt replaces what the failed one left
         opts.quiet = true;
         opts.one_process = true;
-        const RunSummary s = run_simulation(configs[k], opts);
+        opts.command_line = command_line + "  (run " + study.runs[k].name + " of the study)";
+        RunSummary s;
+        try {
+          s = run_simulation(configs[k], opts);
+        } catch (const std::exception& e) {  // the failure goes into the run's log too
+          run_log::write("sphdisk: run failed: " + one_line(e.what()) + "\n");
+          run_log::close();
+          throw;
+        }
+        run_log::close();
         if (s.interrupted)  // SIGTERM/SIGINT: the study stops; this run can be resumed
           return TaskOutcome{false, interruption_note(s), 0.0, true};
         return TaskOutcome{true, std::to_string(s.steps) + " steps", 0.0};

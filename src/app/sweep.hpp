@@ -22,6 +22,7 @@ struct SweepSummary {
 };
 
 // Collective over MPI ranks. All run configurations are checked before any run starts (UserError).
-SweepSummary run_sweep(const std::string& study_path, bool overwrite);
+// `command_line` heads each run's run.log.
+SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std::string& command_line = "");
 
 }  // namespace sphdisk
