@@ -23,8 +23,9 @@ from checklist import Checks  # noqa: E402
 ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
 MAX_README_LINES = 120
 FOLDERS = ["docs", "src", "tests", "bench", "tools", "scripts", "configs", ".ci"]
-# A numbered work period: "session 12", "sessions 31, 34", "session #3", "stop 51", "wave 2".
-WORK_PERIOD = re.compile(r"\b(sessions?|stops?|waves?)[ _#-]*\d", re.IGNORECASE)
+# A numbered work period: "session 12", "sessions 31, 34", "session #3", "block_session10", "stop 51",
+# "wave 2" (not a name such as a test's directory "stop2").
+WORK_PERIOD = re.compile(r"(?<![a-z])sessions?[ _#-]*\d|\b(stops?|waves?) +#?\d", re.IGNORECASE)
 TEXT_SUFFIXES = (".md", ".txt", ".csv", ".json", ".toml", ".py", ".sh", ".cpp", ".hpp", ".inc", ".h", ".cu",
                  ".cmake", "CMakeLists.txt", "run")
 
