@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-h5py python3-yt
+  splash
 )
 
 missing=()
