@@ -216,6 +216,8 @@ Setup make_setup(const Config& cfg) {
   s.phys.gradient_correction = cfg.gradient_correction;
   s.phys.force_correction = cfg.force_correction;
   s.phys.viscous_force = cfg.viscous_force == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
+  s.phys.pair_density = cfg.pair_density == "summation" ? PairDensity::Summation : PairDensity::Others;
+  s.phys.kernel = kernel_from_name(cfg.kernel);
   s.phys.accretion_radius = cfg.accretion_radius;
   s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
   s.ring.tau_start = cfg.tau_start;
@@ -838,9 +840,10 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   Particles<kDim> p = read_checkpoint(path, state, comm);
   // A checkpoint records every key; one written before a key existed, or before its default
   // changed, continues with what it ran then (unless the user overrides it): eq. 6's conservative
-  // form, and the leapfrog on stored lists (the defaults before block steps with pairs searched anew).
+  // form, the summed densities' ratio, and the leapfrog on stored lists.
   std::vector<std::string> all_overrides = overrides;
   for (const auto& [key, earlier] : {std::pair{"viscous_force", "sph.viscous_force=\"conservative\""},
+                                     std::pair{"pair_density", "sph.pair_density=\"summation\""},
                                      std::pair{"scheme", "integrator.scheme=\"leapfrog\""},
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""}})
     if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);

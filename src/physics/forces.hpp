@@ -37,6 +37,7 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
 struct ForceScratch {
   OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (empty without pressure)
   OverwriteVector<double> log_rho;               // ln rho (empty without the consistent divergence)
+  OverwriteVector<double> rho_without_self;      // rho - m W(0, h) (empty but with PairDensity::Others)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
@@ -56,15 +57,21 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   const bool consistent = phys.viscous_force == ViscousForce::Consistent;
   auto& log_rho = scratch.log_rho;
   renew_snug(log_rho, consistent ? p.size() : 0);
+  const bool others = consistent && phys.pair_density == PairDensity::Others;
+  auto& rho_without_self = scratch.rho_without_self;
+  renew_snug(rho_without_self, others ? p.size() : 0);
+  const double w0 = with_kernel(phys.kernel, [](auto k) { return KernelAt<decltype(k), D>(1.0).W(0.0); });
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
+    if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
     if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
-                          phys.force_correction, consistent ? log_rho.data() : nullptr, consistent};
+                          phys.force_correction, consistent ? log_rho.data() : nullptr, consistent,
+                          others ? rho_without_self.data() : nullptr, p.h.data(), phys.kernel};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

@@ -18,6 +18,7 @@
 #include "core/overwrite_vector.hpp"
 #include "core/particles.hpp"
 #include "core/vec.hpp"
+#include "physics/kernels.hpp"
 #include "physics/moment_correction.hpp"
 
 namespace sphdisk {
@@ -102,7 +103,27 @@ struct ForceListData {
   bool with_pressure, force_correction;
   const double* log_rho = nullptr;
   bool consistent = false;
+  // PairDensity::Others (physics_params.hpp): rho_i - m_i W(0, h_i) per particle, the smoothing
+  // lengths and the kernel; null: the summed densities' ratio.
+  const double* rho_without_self = nullptr;
+  const double* h = nullptr;
+  KernelType kernel = KernelType::Cubic;
 };
+
+// ln(rho_j / rho_i) of the densities without the pair's own terms (PairDensity::Others):
+// rho_i - m_i W(0, h_i) - m_j W(r, h_i) over the same for j; where either is not positive (a
+// particle with no other neighbour) the summed densities' ratio.
+template <int D>
+[[gnu::always_inline]] inline double others_log_ratio(const ForceListData<D>& d, std::uint32_t i, std::uint32_t j,
+                                                      double r, double summed) {
+  const double hi = d.h[i], hj = d.h[j];
+  const auto [wi, wj] = with_kernel(d.kernel, [&](auto k) {
+    using K = decltype(k);
+    return std::pair{KernelAt<K, D>(hi).W(r), KernelAt<K, D>(hj).W(r)};
+  });
+  const double rho_i = d.rho_without_self[i] - d.mass[j] * wi, rho_j = d.rho_without_self[j] - d.mass[i] * wj;
+  return rho_i > 0 && rho_j > 0 ? std::log(rho_j / rho_i) : summed;
+}
 
 // The consistent divergence's viscous terms of one pair (physics_params.hpp, ViscousForce):
 //   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . C_i g,
@@ -146,7 +167,9 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
     if constexpr (Consistent) {
       Vec<D> to_i, to_j;
-      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), d.log_rho[j] - log_rho_i, g, to_i, to_j);
+      double dl = d.log_rho[j] - log_rho_i;
+      if (d.rho_without_self) dl = others_log_ratio(d, i, j, std::sqrt(norm2(xi - d.pos[j])), dl);
+      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), dl, g, to_i, to_j);
       ai += to_i * (mj * d.inv_rho[j]);
       if (j < d.writable) d.acc[j] += to_j * (mi * inv_rho_i);
     } else {

@@ -1,5 +1,6 @@
 #pragma once
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
+#include "physics/kernels.hpp"
 
 namespace sphdisk {
 
@@ -18,6 +19,16 @@ enum class EquationOfState { None, Isothermal };
 // docs/validation.md ("Why the ring spread too slowly") shows why the default is Consistent.
 enum class ViscousForce { Conservative, Consistent };
 
+// Which densities the consistent divergence's S_i ln(rho_j / rho_i) compares (physics/list_sums.hpp):
+//   Others:    each without the pair's own two terms, rho_i - m_i W(0, h_i) - m_j W(r_ij, h_i) and
+//              the same for j: the density of the surroundings both particles sit in. The summed
+//              densities include them, and the nearer particle of a pair, with the wider kernel on
+//              the sparse side, raises the sparse density relatively more: the contrast a pair sees,
+//              and with it S . grad ln rho, comes out too small by a fraction that does not shrink
+//              with N (docs/validation.md, "The density a pair compares").
+//   Summation: the summed densities as they are.
+enum class PairDensity { Others, Summation };
+
 struct PhysicsParams {
   double gm = 1.0;                // G * M of the central point mass
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
@@ -29,6 +40,8 @@ struct PhysicsParams {
   bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
   ViscousForce viscous_force = ViscousForce::Consistent;  // discretisation of eq. 6's divergence (above)
+  PairDensity pair_density = PairDensity::Others;        // the consistent divergence's density ratio (above)
+  KernelType kernel = KernelType::Cubic;                   // the summation's kernel (for PairDensity::Others)
   // Whether the particles hold the moment correction C_i = M_i^-1 (core/particles.hpp, correction).
   bool keeps_correction() const { return force_correction || viscous_force == ViscousForce::Consistent; }
 };

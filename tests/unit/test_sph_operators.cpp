@@ -1,6 +1,7 @@
 // SPH operators against analytic answers (P98 eqs. 6-8): exact gradients of linear velocity
 // fields on a lattice, zero viscous force for translation and rigid rotation, the divergence of the
 // stress for quadratic fields, and exact conservation of momentum and energy.
+#include <numbers>
 #include <gtest/gtest.h>
 
 #include "app/rate_evaluator.hpp"
@@ -321,4 +322,29 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
       ASSERT_LT(norm(acc[j] - aj), 1e-12 * (norm(aj) + 1e-300)) << "partner " << j;
     }
   }
+}
+
+// The consistent force's density ratio without the pair's own terms (PairDensity::Others): each
+// density loses the pair partner's kernel term, taken with its own smoothing length, so the ratio
+// holds no trace of the pair itself. Hand values with the 2D cubic spline
+// W(r, h) = 10 / (7 pi h^2) (1 - 1.5 q^2 + 0.75 q^3), q = r / h < 1.
+TEST(ViscousForce, PairDensityLeavesOutThePairsOwnTerms) {
+  const double r = 0.05;
+  std::vector<double> mass{2.0, 3.0}, h{0.1, 0.2}, without_self{500.0, 200.0};
+  auto W = [](double rr, double hh) {
+    const double q = rr / hh;
+    return 10.0 / (7.0 * std::numbers::pi * hh * hh) * (1 - 1.5 * q * q + 0.75 * q * q * q);
+  };
+  ForceListData<2> d{};
+  d.mass = mass.data(), d.h = h.data(), d.rho_without_self = without_self.data(), d.kernel = KernelType::Cubic;
+  // W(0.05, 0.1) = 45.4728 x 0.71875 = 32.684; W(0.05, 0.2) = 11.3682 x 0.91797 = 10.436:
+  // ln((200 - 2 x 10.436) / (500 - 3 x 32.684)) = ln(179.13 / 401.95) = -0.8082.
+  const double expected = std::log((200.0 - 2.0 * W(r, 0.2)) / (500.0 - 3.0 * W(r, 0.1)));
+  EXPECT_NEAR(expected, -0.8082, 5e-4);
+  EXPECT_NEAR(others_log_ratio(d, 0, 1, r, 99.0), expected, 1e-13);
+  EXPECT_NEAR(others_log_ratio(d, 1, 0, r, 99.0), -expected, 1e-13);  // odd in the pair
+  // Nothing left of a density (no other neighbour): the summed densities' ratio.
+  without_self = {50.0, 200.0};
+  d.rho_without_self = without_self.data();
+  EXPECT_EQ(others_log_ratio(d, 0, 1, r, 99.0), 99.0);
 }
