@@ -9,6 +9,7 @@
 // smoothing-length solve has summed rho already (smoothing_length.hpp), and the factors, the pair
 // average of dW(r, h_i)/dr / r and dW(r, h_j)/dr / r (symmetric in i <-> j as momentum conservation
 // needs), are formed by the first pair loop that reads them.
+// Each pair's terms: density_term (pair_terms.hpp).
 // The particle volume m/rho, the weight of every later pair sum (eqs. 6, 8), is stored with rho.
 // Computed for the writable particles (pairs.writable(): all of them, or a process's own active
 // particles when the rest are ghosts or inactive ones, which keep their values).
@@ -24,6 +25,7 @@
 #include "physics/kernels.hpp"
 #include "physics/list_factors.hpp"
 #include "physics/pair_factors.hpp"
+#include "physics/pair_terms.hpp"
 
 namespace sphdisk {
 
@@ -48,7 +50,7 @@ class ConstantHDensity {
     if constexpr (!kDoubleRho) wide_.resize(p.size());  // here, not in add_list, which threads call at once
     const double self_W = kern.W(0.0);
     double* rho = sums();
-    par::for_each(m_, [&](std::size_t i) { rho[i] = p_.mass[i] * self_W; }, "density");
+    par::for_each(m_, [&](std::size_t i) { rho[i] = density_term(p_.mass[i], self_W); }, "density");
   }
   const KernelAt<K, D>& kernel() const { return kern_; }
   // The terms of i's half list js, w[q] = W(|x_i - x_js[q]|, h).
@@ -58,8 +60,8 @@ class ConstantHDensity {
     double rho_i = 0.0;
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q];
-      rho_i += p_.mass[j] * w[q];
-      if (j < m_) rho[j] += mi * w[q];
+      rho_i += density_term(p_.mass[j], w[q]);
+      if (j < m_) rho[j] += density_term(mi, w[q]);
     }
     if (i < m_) rho[i] += rho_i;
   }

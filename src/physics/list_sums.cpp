@@ -64,9 +64,9 @@ struct Round {
 }
 
 // Eight partners per round: their positions, velocities and volumes loaded, the eight products of
-// pair_products (the moment ones negated: sum - w P = sum + w (-P) exactly) formed for all of them
-// and transposed to one vector per pair, which is then weighted and added to i's sum and to the
-// partner's, pair by pair in list order: the scalar loop's operations, in its order.
+// gradient_pair_products (pair_terms.hpp; the moment ones negated: w (-P) = -(w P) exactly) formed
+// for all of them and transposed to one vector per pair, which is then weighted and added to i's sum
+// and to the partner's, pair by pair in list order: the scalar loop's operations, in its order.
 [[gnu::target("avx512f,avx512vl")]] void gradient_list_avx512(const GradientListData<2>& d, std::uint32_t i,
                                                                        const std::uint32_t* js, const float* F,
                                                                        std::size_t n, GradientSums<2>& sum_i) {

@@ -1,8 +1,8 @@
 #pragma once
 // The innermost loops of the velocity-gradient (P98 eq. 8) and force (eq. 6) pair sums: the terms of
 // one half list, particle i and its partners js[q] with kernel-gradient factors F[q]
-// (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum. They are
-// most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
+// (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum; each pair's
+// terms are those of pair_terms.hpp. They are most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
 // scattered one at a time; in 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) eight
 // partners are gathered and their terms formed at once, then added pair by pair in list order; with
 // AVX2 only, the scalar gradient loop runs compiled for AVX2 and the forces four partners at a time.
@@ -19,43 +19,25 @@
 #include "core/particles.hpp"
 #include "core/vec.hpp"
 #include "physics/kernels.hpp"
-#include "physics/moment_correction.hpp"
+#include "physics/pair_terms.hpp"
 
 namespace sphdisk {
-
-// Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
-// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
-template <int D>
-struct GradientSums {
-  Mat<D> V, M;
-};
 
 // The writable particles' sums of an evaluation: zeroed in parallel by zero_sums (viscous_stress.hpp),
 // so a new buffer is not zero-filled first (core/overwrite_vector.hpp).
 template <int D>
 using GradientSumsArray = UnsetVector<GradientSums<D>>;
 
-// Adds one neighbour's terms: f = (m_j / rho_j) W_,b / dx_b, dv = v_j - v_i, dx = x_i - x_j. The pair
-// gives both particles the same dv (x) dx and dx (x) dx ((v_i - v_j) (x) (x_j - x_i) = dv (x) dx), each
-// with the other's volume.
-// The products are formed once per pair (pair_products) and weighted for each particle.
+// Adds a pair term to a sum, component by component.
 template <int D>
-GradientSums<D> pair_products(const Vec<D>& dv, const Vec<D>& dx) {
-  GradientSums<D> q;
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) {
-      q.V(a, b) = dv[a] * dx[b];
-      q.M(a, b) = dx[a] * dx[b];
-    }
-  return q;
+void accumulate(Mat<D>& into, const Mat<D>& x) {
+  for (std::size_t c = 0; c < into.c.size(); ++c) into.c[c] += x.c[c];
 }
 
 template <int D>
-void add_gradient_terms(GradientSums<D>& g, double f, const GradientSums<D>& products) {
-  for (std::size_t c = 0; c < g.V.c.size(); ++c) {
-    g.V.c[c] += f * products.V.c[c];
-    g.M.c[c] -= f * products.M.c[c];
-  }
+void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
+  accumulate(into.V, x.V);
+  accumulate(into.M, x.M);
 }
 
 // What the gradient sums of a list read and write: sums[j] for the partners j < writable.
@@ -76,10 +58,10 @@ template <int D>
   const double Vi = d.volume[i];
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
-    const GradientSums<D> shared = pair_products(d.vel[j] - vi, xi - d.pos[j]);
+    const GradientSums<D> shared = gradient_pair_products(d.vel[j] - vi, xi - d.pos[j]);
     const double f = static_cast<double>(F[q]);
-    add_gradient_terms(sum_i, f * d.volume[j], shared);
-    if (j < d.writable) add_gradient_terms(d.sums[j], f * Vi, shared);
+    accumulate(sum_i, gradient_term(f, d.volume[j], shared));
+    if (j < d.writable) accumulate(d.sums[j], gradient_term(f, Vi, shared));
   }
 }
 
@@ -125,24 +107,6 @@ template <int D>
   return rho_i > 0 && rho_j > 0 ? std::log(rho_j / rho_i) : summed;
 }
 
-// The consistent divergence's viscous terms of one pair (physics_params.hpp, ViscousForce):
-//   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . C_i g,
-//   a_j += V_i [S_j - S_i + S_j (ln rho_j - ln rho_i)] . C_j g     (grad_j W_ji = -g, dS and dl odd),
-// with g = grad_i W_ij. Zero for a constant stress and density; for linear ones each particle's sum
-// is their exact divergence (C = M^-1 makes the sum exact for linear fields).
-template <int D>
-[[gnu::always_inline]] inline void consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci, const Mat<D>& Cj,
-                                                          double dl, const Vec<D>& g, Vec<D>& to_i, Vec<D>& to_j) {
-  Mat<D> Xi, Xj;
-  for (std::size_t c = 0; c < Xi.c.size(); ++c) {
-    const double dS = Sj.c[c] - Si.c[c];
-    Xi.c[c] = dS + Si.c[c] * dl;
-    Xj.c[c] = dS + Sj.c[c] * dl;
-  }
-  to_i = contract(Xi, contract(Ci, g));
-  to_j = contract(Xj, contract(Cj, g));
-}
-
 // The pair terms of forces.hpp (eq. 6 and the pressure force) for one list: i's to ai and du_i.
 // The switches are template arguments so that each case runs a loop without the others' tests
 // (force_list_terms), chosen once per list by add_force_list_scalar. Correction: the force
@@ -160,28 +124,26 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
   if constexpr (Consistent) Ci = as_double(d.correction[i]), log_rho_i = d.log_rho[i];
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
-    Vec<D> g = (xi - d.pos[j]) * static_cast<double>(F[q]);
+    Vec<D> g = kernel_gradient(xi - d.pos[j], static_cast<double>(F[q]));
     if constexpr (Correction) g = corrected_pair_gradient(as_double(d.correction[i]), as_double(d.correction[j]), g);
     const Mat<D> Sj = as_double(d.stress[j]);
     const double mj = d.mass[j];
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
     if constexpr (Consistent) {
-      Vec<D> to_i, to_j;
       double dl = d.log_rho[j] - log_rho_i;
       if (d.rho_without_self) dl = others_log_ratio(d, i, j, std::sqrt(norm2(xi - d.pos[j])), dl);
-      consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), dl, g, to_i, to_j);
-      ai += to_i * (mj * d.inv_rho[j]);
-      if (j < d.writable) d.acc[j] += to_j * (mi * inv_rho_i);
+      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), dl, mi * inv_rho_i,
+                                                          mj * d.inv_rho[j], g);
+      ai += a.to_i;
+      if (j < d.writable) d.acc[j] += a.to_j;
     } else {
-      Mat<D> X;
-      for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * d.inv_rho[j] + Sj.c[c] * inv_rho_i;
-      f = contract(X, g);
+      f = conservative_viscous_pair(Si, Sj, inv_rho_i, d.inv_rho[j], g);
     }
     if constexpr (Pressure) {
-      f -= g * (Pr_i + d.p_over_rho2[j]);
-      const double work = dot(vi - d.vel[j], g);
-      du_i += Pr_i * mj * work;
-      if (j < d.writable && d.du_dt) d.du_dt[j] += d.p_over_rho2[j] * mi * work;
+      f -= pressure_pair(Pr_i, d.p_over_rho2[j], g);
+      const PairTerms<double> work = pressure_work_pair(Pr_i, d.p_over_rho2[j], mi, mj, vi - d.vel[j], g);
+      du_i += work.to_i;
+      if (j < d.writable && d.du_dt) d.du_dt[j] += work.to_j;
     }
     if constexpr (!Consistent || Pressure) {
       ai += f * mj;

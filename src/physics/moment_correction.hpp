@@ -9,7 +9,8 @@
 // gradient is corrected for this (viscous_stress.hpp), but eq. 6's divergence of the stress carries
 // the same factor, so the force, and the effective viscosity, stay too small. G_ij corrects the
 // divergence to first order while keeping G_ji = -G_ij, so momentum and (with the matching heating)
-// energy remain exactly conserved. C_i falls back to the identity where M_i is singular.
+// energy remain exactly conserved. C_i falls back to the identity where M_i is singular. G_ij is
+// formed per pair by corrected_pair_gradient (pair_terms.hpp).
 #include "core/vec.hpp"
 
 namespace sphdisk {
@@ -20,12 +21,6 @@ template <int D>
 Mat<D> correction_from_moments(const Mat<D>& M) {
   Mat<D> C;
   return invert_if_well_conditioned(M, C) ? C : identity<D>();
-}
-
-// G_ij = (C_i + C_j) grad_i W_ij / 2.
-template <int D>
-Vec<D> corrected_pair_gradient(const Mat<D>& Ci, const Mat<D>& Cj, const Vec<D>& gradW) {
-  return (contract(Ci, gradW) + contract(Cj, gradW)) * 0.5;
 }
 
 }  // namespace sphdisk

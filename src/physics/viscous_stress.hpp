@@ -7,7 +7,7 @@
 //   m_j (nu_j sigma_j / rho_i + nu_i sigma_i / rho_j) = m_j (S_j / rho_i + S_i / rho_j).
 // Viscous heating du_i/dt = S_i : V_i (docs/physics.md sec. 2: sigma:V, not sigma:sigma/2) makes
 // the kinetic + internal energy exactly conserved together with the force of forces.hpp.
-// Pair sums visit each pair once (pair_lists.hpp).
+// Pair sums visit each pair once (pair_lists.hpp); each pair's terms are those of pair_terms.hpp.
 // Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part, where the particles
 // hold it: with an energy equation).
 #include "core/particles.hpp"
@@ -20,17 +20,6 @@
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {
-
-template <int D>
-void accumulate(Mat<D>& into, const Mat<D>& x) {
-  for (std::size_t c = 0; c < into.c.size(); ++c) into.c[c] += x.c[c];
-}
-
-template <int D>
-void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
-  accumulate(into.V, x.V);
-  accumulate(into.M, x.M);
-}
 
 // Per-particle sums over each half list's pairs (pair_lists.hpp): add_list(i, js, F, sum_i) adds
 // the list's terms to sum_i and to the writable partners' sums. Sums are kept for the writable
@@ -60,26 +49,6 @@ void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_l
   zero_sums(m, sums);
   pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), FactorUse::Read, "velocity_gradient",
                       FarPairs::First);
-}
-
-// Per-particle sums over neighbours of terms in dv = v_j - v_i and dx = x_i - x_j weighted by
-// (m_j/rho_j) W_,b / dx_b: pair_of(dv, dx) forms what the two particles share, add(sum, weight,
-// shared, other) adds one particle's term (other: the partner). Both particles get the same dv and
-// dx: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx.
-template <int D, class Pairs, class T, class PairOf, class Add>
-void sum_velocity_pair_terms(const Particles<D>& p, const Pairs& pairs, std::vector<T>& sums, PairOf&& pair_of, Add&& add) {
-  const std::size_t m = pairs.writable();
-  sum_pair_lists(pairs, sums, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, T& sum_i) {
-    const Vec<D> xi = p.pos[i], vi = p.vel[i];
-    const double Vi = p.volume[i];
-    for (std::size_t q = 0; q < js.size(); ++q) {
-      const std::uint32_t j = js[q];
-      const auto shared = pair_of(p.vel[j] - vi, xi - p.pos[j]);
-      const double f = static_cast<double>(F[q]);
-      add(sum_i, f * p.volume[j], shared, j);
-      if (j < m) add(sums[j], f * Vi, shared, i);
-    }
-  });
 }
 
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
@@ -117,20 +86,6 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
   return S;
 }
 
-// With the force correction on (moment_correction.hpp) the heating must use the gradient with the
-// force's pair operator G_ij,
-//   V^G_i = sum_j (m_j/rho_j) (v_j - v_i) (x) G_ij = (V C_i + sum_j (m_j/rho_j) (v_j - v_i) (x) C_j grad W) / 2,
-// to keep kinetic + internal energy exactly conserved. The first half needs only particle i and is
-// added in compute_viscous_stress; add_force_corrected_heating adds the second half, which needs
-// p.correction of every neighbour. For j the pair term is dv (x) C_i (dx V_i F) (same sign argument
-// as add_gradient_terms).
-template <int D>
-void add_neighbour_corrected_terms(Mat<D>& H, const Mat<D>& C_other, double f, const Vec<D>& dv, const Vec<D>& dx) {
-  const Vec<D> g = contract(C_other, dx * f);
-  for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) H(a, b) += dv[a] * g[b];
-}
-
 // Particle i's stress and heating from its complete gradient sums g.
 template <int D>
 void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, const PhysicsParams& phys) {
@@ -160,19 +115,37 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
   par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
 }
 
+// With the force correction on (moment_correction.hpp) the heating must use the gradient with the
+// force's pair operator G_ij,
+//   V^G_i = sum_j (m_j/rho_j) (v_j - v_i) (x) G_ij = (V C_i + sum_j (m_j/rho_j) (v_j - v_i) (x) C_j grad W) / 2,
+// to keep kinetic + internal energy exactly conserved. The first half needs only particle i and is
+// added in settle_stress; add_force_corrected_heating adds the second half, which needs
+// p.correction of every neighbour: its sums H, each pair's two terms from corrected_heating_term
+// (pair_terms.hpp).
+template <int D, class Pairs>
+void sum_corrected_heating_terms(const Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {
+  const std::size_t m = pairs.writable();
+  sum_pair_lists(pairs, H, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, Mat<D>& sum_i) {
+    const Vec<D> xi = p.pos[i], vi = p.vel[i];
+    const Mat<D> Ci = as_double(p.correction[i]);
+    const double Vi = p.volume[i];
+    for (std::size_t q = 0; q < js.size(); ++q) {
+      const std::uint32_t j = js[q];
+      const Vec<D> dv = p.vel[j] - vi, dx = xi - p.pos[j];
+      const double f = static_cast<double>(F[q]);
+      accumulate(sum_i, corrected_heating_term(as_double(p.correction[j]), f, p.volume[j], dv, dx));
+      if (j < m) accumulate(H[j], corrected_heating_term(Ci, f, Vi, dv, dx));
+    }
+  });
+}
+
 // The second half of the heating with the force correction; reads every neighbour's p.correction,
 // so it runs after compute_viscous_stress has set them all (and the ghosts' have been refreshed).
 // Not needed where the particles hold no energy rate (no energy equation: du_dt absent).
 // H: scratch.
 template <int D, class Pairs>
 void add_force_corrected_heating(Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {
-  struct Shared {
-    Vec<D> dv, dx;
-  };
-  sum_velocity_pair_terms(p, pairs, H, [](const Vec<D>& dv, const Vec<D>& dx) { return Shared{dv, dx}; },
-                          [&p](Mat<D>& h, double w, const Shared& s, std::uint32_t other) {
-                            add_neighbour_corrected_terms(h, as_double(p.correction[other]), w, s.dv, s.dx);
-                          });
+  sum_corrected_heating_terms(p, pairs, H);
   const std::size_t m = pairs.writable();
   par::for_each(m, [&](std::size_t i) { p.du_dt[i] += 0.5 * double_dot(as_double(p.stress[i]), H[i]); }, "velocity_gradient");
 }

@@ -145,7 +145,8 @@ TEST(ListSums, GradientPathsAgree) {
   const GradientSums<2> expected = [&] {
     GradientSums<2> g{};
     const std::uint32_t i = l.owner[1], j = l.partners[1][0];
-    add_gradient_terms(g, static_cast<double>(l.factors[1][0]) * f.volume[j], pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j]));
+    const GradientSums<2> shared = gradient_pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j]);
+    accumulate(g, gradient_term(static_cast<double>(l.factors[1][0]), f.volume[j], shared));
     return g;
   }();
   EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);

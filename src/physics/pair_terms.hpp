@@ -1,0 +1,131 @@
+#pragma once
+// The terms one pair of particles (i, j) adds to the SPH sums (docs/physics.md sec. 2), one pure
+// function per equation, on plain values: the pair loops (list_sums.hpp, density.hpp,
+// viscous_stress.hpp) gather a pair's quantities, call these and add what they return. Where a loop
+// visits each pair once, a function returns both particles' terms, or what they share. Only
+// core/vec.hpp is used: the functions are constexpr and need no particles, lists or threads.
+// Notation: dx = x_i - x_j, dv = v_j - v_i, F = F_ij the kernel-gradient factor (pair_factors.hpp),
+// g = grad_i W_ij = dx F = -grad_j W_ji, V = m / rho a particle's volume, S the kinematic stress
+// (viscous_stress.hpp), C = M^-1 the moment correction (moment_correction.hpp). The operations and
+// their order are those the vector loops of list_sums.cpp repeat, so both give the same bits.
+#include "core/vec.hpp"
+
+namespace sphdisk {
+
+// What a pair adds to each of its two particles.
+template <class T>
+struct PairTerms {
+  T to_i, to_j;
+};
+
+// Density (P98 eq. 4 with f = rho): m_j W_ij, j's term in rho_i; with one h, W_ij = W_ji and
+// m_i W_ij is i's term in rho_j. The self term is density_term(m_i, W(0)).
+constexpr double density_term(double m_other, double W) { return m_other * W; }
+
+// grad_i W_ij = (x_i - x_j) F_ij (pair_factors.hpp).
+template <int D>
+constexpr Vec<D> kernel_gradient(const Vec<D>& dx, double F) {
+  return dx * F;
+}
+
+// Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
+// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
+template <int D>
+struct GradientSums {
+  Mat<D> V, M;
+};
+
+// What the pair's two terms in eq. 8 and M share: dv (x) dx and dx (x) dx. Both particles get the
+// same products: (v_i - v_j) (x) (x_j - x_i) = dv (x) dx.
+template <int D>
+constexpr GradientSums<D> gradient_pair_products(const Vec<D>& dv, const Vec<D>& dx) {
+  GradientSums<D> q;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) {
+      q.V(a, b) = dv[a] * dx[b];
+      q.M(a, b) = dx[a] * dx[b];
+    }
+  return q;
+}
+
+// One particle's terms from the shared products, weighted with the partner's volume:
+//   V += V_other F dv (x) dx        (eq. 8: (m_j/rho_j) (v_j - v_i) (x) grad_i W_ij),
+//   M += -(V_other F dx (x) dx)     (docs/physics.md sec. 2, "Velocity gradient and stress").
+// Adding the negated product gives the bits of subtracting it.
+template <int D>
+constexpr GradientSums<D> gradient_term(double F, double V_other, const GradientSums<D>& products) {
+  const double w = F * V_other;
+  GradientSums<D> t;
+  for (std::size_t c = 0; c < t.V.c.size(); ++c) {
+    t.V.c[c] = w * products.V.c[c];
+    t.M.c[c] = -(w * products.M.c[c]);
+  }
+  return t;
+}
+
+// The conservative form of eq. 6 without its masses: f = (S_i / rho_j + S_j / rho_i) . g, so that
+// a_i += m_j f and a_j -= m_i f (antisymmetric: momentum exact). Pressure, if any, is subtracted
+// from f before the masses (pressure_pair).
+template <int D>
+constexpr Vec<D> conservative_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, double inv_rho_i, double inv_rho_j,
+                                           const Vec<D>& g) {
+  Mat<D> X;
+  for (std::size_t c = 0; c < X.c.size(); ++c) X.c[c] = Si.c[c] * inv_rho_j + Sj.c[c] * inv_rho_i;
+  return contract(X, g);
+}
+
+// The consistent divergence's viscous terms (docs/physics.md sec. 2, "Viscous force"):
+//   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . C_i g,
+//   a_j += V_i [S_j - S_i + S_j (ln rho_j - ln rho_i)] . C_j g     (grad_j W_ji = -g, dS and dl odd),
+// with dl = ln rho_j - ln rho_i. Zero for a constant stress and density; for linear ones each
+// particle's sum is their exact divergence (C = M^-1 makes the sum exact for linear fields).
+template <int D>
+constexpr PairTerms<Vec<D>> consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci, const Mat<D>& Cj,
+                                                    double dl, double Vi, double Vj, const Vec<D>& g) {
+  Mat<D> Xi, Xj;
+  for (std::size_t c = 0; c < Xi.c.size(); ++c) {
+    const double dS = Sj.c[c] - Si.c[c];
+    Xi.c[c] = dS + Si.c[c] * dl;
+    Xj.c[c] = dS + Sj.c[c] * dl;
+  }
+  return {contract(Xi, contract(Ci, g)) * Vj, contract(Xj, contract(Cj, g)) * Vi};
+}
+
+// The moment-corrected, pair-symmetrised kernel gradient G_ij = (C_i + C_j) g / 2 (IAD0,
+// moment_correction.hpp), which replaces g in the conservative form when sph.force_correction is
+// on; G_ji = -G_ij keeps the conservation exact.
+template <int D>
+constexpr Vec<D> corrected_pair_gradient(const Mat<D>& Ci, const Mat<D>& Cj, const Vec<D>& g) {
+  return (contract(Ci, g) + contract(Cj, g)) * 0.5;
+}
+
+// The pressure force without its masses: (P_i / rho_i^2 + P_j / rho_j^2) g, subtracted from the
+// conservative form's f (a_i -= m_j (...) g, a_j += m_i (...) g; docs/physics.md sec. 2).
+template <int D>
+constexpr Vec<D> pressure_pair(double Pr_i, double Pr_j, const Vec<D>& g) {
+  return g * (Pr_i + Pr_j);
+}
+
+// The pressure work of the pair, Pr = P / rho^2 and vij = v_i - v_j:
+//   du_i/dt += Pr_i m_j vij . g,   du_j/dt += Pr_j m_i vij . g   ((v_j - v_i) . grad_j W_ji = vij . g).
+template <int D>
+constexpr PairTerms<double> pressure_work_pair(double Pr_i, double Pr_j, double m_i, double m_j, const Vec<D>& vij,
+                                               const Vec<D>& g) {
+  const double work = dot(vij, g);
+  return {Pr_i * m_j * work, Pr_j * m_i * work};
+}
+
+// One particle's pair term in the heating that pairs with the force-corrected eq. 6
+// (docs/physics.md sec. 2, "Viscous heating and pressure"): dv (x) C_other (dx F V_other), i.e.
+// (m_j/rho_j) (v_j - v_i) (x) C_j grad_i W_ij for i, and for j with i's C and volume (the same dv
+// and dx: (v_i - v_j) (x) C_i (-dx) F = dv (x) C_i dx F).
+template <int D>
+constexpr Mat<D> corrected_heating_term(const Mat<D>& C_other, double F, double V_other, const Vec<D>& dv, const Vec<D>& dx) {
+  const Vec<D> g = contract(C_other, dx * (F * V_other));
+  Mat<D> H;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) H(a, b) = dv[a] * g[b];
+  return H;
+}
+
+}  // namespace sphdisk
