@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/pair_source.hpp"  // FactorUse, FarPairs
 #include "core/snug_resize.hpp"
 #include "core/vec.hpp"
 #include "neighbours/cell_grid.hpp"
@@ -111,11 +112,6 @@ bool tiles_adjacent(const std::int32_t* a, const std::int32_t* b) {
   return yes;
 }
 
-// Where a pair loop puts the far pairs: after the tiles' pairs (the default), or before them (the
-// velocity-gradient sums: so that a particle's sums are complete once the tiles around it have
-// passed, and the force loop can follow the gradient loop tile by tile, tile_jobs.hpp).
-enum class FarPairs { Last, First };
-
 // Calls f(i, js, k0) once per particle i with a non-empty half list: js its partners, numbered
 // k0, k0 + 1, ... (near pairs first, as per-pair arrays such as the pair factors are indexed: in
 // the order of the calls within each part).
@@ -169,10 +165,6 @@ void for_each_pair(const PairLists& pl, F&& f, std::string_view trace_label = {}
     for (std::size_t q = 0; q < js.size(); ++q) f(i, js[q], k0 + q);
   }, trace_label);
 }
-
-// What a pair loop does with the kernel-gradient factors of its pairs (physics/pair_factors.hpp):
-// computes them (the density loop) or reads them (the loops after it).
-enum class FactorUse { Write, Read };
 
 // The pairs as the pair loops of physics/ read them (the other form is ScannedPairs of
 // pair_scan.hpp): the stored half lists with one stored factor per pair.

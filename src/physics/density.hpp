@@ -18,9 +18,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/pair_source.hpp"
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
-#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/kernels.hpp"
 #include "physics/list_factors.hpp"

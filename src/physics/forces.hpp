@@ -6,7 +6,8 @@
 //   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (docs/physics.md sec. 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
 //   gravity:  a_i -= G M x_i / |x_i|^3   (left out when the integrator substeps it)
-// With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp.
+// With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp. Each pair's
+// terms are those of pair_terms.hpp (summed by list_sums.hpp).
 // The conservative form's pair terms are antisymmetric in i <-> j, so linear momentum is conserved
 // to round-off (the consistent form's to the discretisation error). Angular momentum is not
 // exactly conserved (the viscous pair force is not along r_ij; docs/physics.md sec. 2).
@@ -15,9 +16,9 @@
 #include <cmath>
 #include <vector>
 
+#include "core/pair_source.hpp"
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
-#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"

@@ -10,9 +10,9 @@
 // Pair sums visit each pair once (pair_lists.hpp); each pair's terms are those of pair_terms.hpp.
 // Reads: pos, vel, volume, pair factors. Writes: stress, du_dt (viscous heating part, where the particles
 // hold it: with an energy equation).
+#include "core/pair_source.hpp"
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
-#include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"
