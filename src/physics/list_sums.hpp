@@ -1,16 +1,16 @@
 #pragma once
-// The innermost loops of the velocity-gradient (P98 eq. 8) and force (eq. 6) pair sums: the terms of
-// one half list, particle i and its partners js[q] with kernel-gradient factors F[q]
-// (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum; each pair's
-// terms are those of pair_terms.hpp. They are most of a rate evaluation's pair work. In scalar code each pair's terms are gathered, formed and
-// scattered one at a time; in 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) eight
-// partners are gathered and their terms formed at once, then added pair by pair in list order; with
-// AVX2 only, the scalar gradient loop runs compiled for AVX2 and the forces four partners at a time.
-// Both paths give the same bits: the same operations in the same order (i's sum takes the partners
-// in list order; a partner's sum gets one addition per pair, as in the scalar loop), with
-// floating-point contraction off in list_sums.cpp, and the tests compare the two. The vector path
-// covers the ring's case (no pressure, no force correction, double-precision stress); the rest runs
-// the scalar loop.
+// The innermost loops of the velocity-gradient (P98 eq. 8) and force (eq. 6) pair sums: the terms
+// of one half list, particle i and its partners js[q] with kernel-gradient factors F[q]
+// (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum; each
+// pair's terms are those of pair_terms.hpp. They are most of a rate evaluation's pair work. In
+// scalar code each pair's terms are gathered, formed and scattered one at a time; in 2D on CPUs
+// with AVX-512 (asked at run time, core/vector_isa.hpp) eight partners are gathered and their terms
+// formed at once, then added pair by pair in list order; with AVX2 only, the scalar gradient loop
+// runs compiled for AVX2 and the forces four partners at a time. Both paths give the same bits: the
+// same operations in the same order (i's sum takes the partners in list order; a partner's sum gets
+// one addition per pair, as in the scalar loop), with floating-point contraction off in
+// list_sums.cpp, and the tests compare the two. The vector path covers the ring's case (no
+// pressure, no force correction, double-precision stress); the rest runs the scalar loop.
 #include <cstddef>
 #include <cstdint>
 #include <span>

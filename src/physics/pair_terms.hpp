@@ -80,8 +80,8 @@ constexpr Vec<D> conservative_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, d
 // with dl = ln rho_j - ln rho_i. Zero for a constant stress and density; for linear ones each
 // particle's sum is their exact divergence (C = M^-1 makes the sum exact for linear fields).
 template <int D>
-constexpr PairTerms<Vec<D>> consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci, const Mat<D>& Cj,
-                                                    double dl, double Vi, double Vj, const Vec<D>& g) {
+constexpr PairTerms<Vec<D>> consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci,
+                                                    const Mat<D>& Cj, double dl, double Vi, double Vj, const Vec<D>& g) {
   Mat<D> Xi, Xj;
   for (std::size_t c = 0; c < Xi.c.size(); ++c) {
     const double dS = Sj.c[c] - Si.c[c];
@@ -120,7 +120,8 @@ constexpr PairTerms<double> pressure_work_pair(double Pr_i, double Pr_j, double 
 // (m_j/rho_j) (v_j - v_i) (x) C_j grad_i W_ij for i, and for j with i's C and volume (the same dv
 // and dx: (v_i - v_j) (x) C_i (-dx) F = dv (x) C_i dx F).
 template <int D>
-constexpr Mat<D> corrected_heating_term(const Mat<D>& C_other, double F, double V_other, const Vec<D>& dv, const Vec<D>& dx) {
+constexpr Mat<D> corrected_heating_term(const Mat<D>& C_other, double F, double V_other, const Vec<D>& dv,
+                                        const Vec<D>& dx) {
   const Vec<D> g = contract(C_other, dx * (F * V_other));
   Mat<D> H;
   for (int a = 0; a < D; ++a)

@@ -237,6 +237,17 @@ namespace {
 
 enum class Force { Conservative, ConservativePressure, CorrectedPressure, Consistent, ConsistentPressure };
 
+const char* name(Force form) {
+  switch (form) {
+    case Force::Conservative: return "conservative";
+    case Force::ConservativePressure: return "conservative with pressure";
+    case Force::CorrectedPressure: return "force-corrected with pressure";
+    case Force::Consistent: return "consistent";
+    case Force::ConsistentPressure: return "consistent with pressure";
+  }
+  return "";
+}
+
 struct ForceSums {
   ListSums<Vec<2>> acc;
   ListSums<double> du;
@@ -307,7 +318,7 @@ TEST(PairTerms, ForceListSumsArePairTermSums) {
                            Force::ConsistentPressure})
     for (const bool scalar : {true, false}) {
       const ForceSums want = forces_by_pair_terms(form), got = forces_by_list(form, scalar);
-      const std::string what = std::string(scalar ? "scalar" : "dispatched") + ", form " + std::to_string(static_cast<int>(form));
+      const std::string what = std::string(scalar ? "scalar, " : "dispatched, ") + name(form);
       expect_vec(got.acc.own, want.acc.own, what + ": a_0");
       EXPECT_EQ(got.du.own, want.du.own) << what << ": du_0";
       for (std::size_t j = 1; j < kWritable; ++j) {
@@ -358,12 +369,12 @@ TEST(PairTerms, DensityListSumsArePairTermSums) {
   sums.add_list(kOwner, kPartners, w);
   sums.finish();
   const double self = kern.W(0.0);
+  const Particle &P2 = kParticles[2], &P3 = kParticles[3];
   // By hand: the list adds 1 (0.375) + 4 (0.25) + 0.5 (0.125) = 1.4375 to rho_0.
-  EXPECT_EQ(density_term(P1.m, w[0]) + density_term(kParticles[2].m, w[1]) + density_term(kParticles[3].m, w[2]), 1.4375);
-  const double want[3] = {density_term(P0.m, self) + ((density_term(P1.m, w[0]) + density_term(kParticles[2].m, w[1])) +
-                                                      density_term(kParticles[3].m, w[2])),
-                          density_term(P1.m, self) + density_term(P0.m, w[0]),
-                          density_term(kParticles[2].m, self) + density_term(P0.m, w[1])};
+  const double list_0 = (density_term(P1.m, w[0]) + density_term(P2.m, w[1])) + density_term(P3.m, w[2]);
+  EXPECT_EQ(list_0, 1.4375);
+  const double want[3] = {density_term(P0.m, self) + list_0, density_term(P1.m, self) + density_term(P0.m, w[0]),
+                          density_term(P2.m, self) + density_term(P0.m, w[1])};
   for (std::size_t k = 0; k < kWritable; ++k) {
     typename decltype(p.rho)::value_type rounded;
     store(rounded, want[k]);
@@ -382,8 +393,9 @@ TEST(PairTerms, HeatingListSumsArePairTermSums) {
   for (std::size_t q = 0; q < kPartners.size(); ++q) {
     const std::uint32_t j = kPartners[q];
     const Particle& pj = kParticles[j];
-    accumulate(want[kOwner], corrected_heating_term(pj.C, double{kFactors[q]}, volume(pj), pj.v - i.v, i.x - pj.x));
-    if (j < kWritable) accumulate(want[j], corrected_heating_term(i.C, double{kFactors[q]}, volume(i), pj.v - i.v, i.x - pj.x));
+    const Vec<2> dv = pj.v - i.v, dx = i.x - pj.x;
+    accumulate(want[kOwner], corrected_heating_term(pj.C, double{kFactors[q]}, volume(pj), dv, dx));
+    if (j < kWritable) accumulate(want[j], corrected_heating_term(i.C, double{kFactors[q]}, volume(i), dv, dx));
   }
   // By hand for 0: (0, 1) above, (0, 2): [[0, -1], [0, -1]], (0, 3): [[0.25, 1], [0.75, 3]].
   expect_mat(want[kOwner], mat(-4.75, -4, -4.25, -2), "H_0 by hand");
