@@ -216,7 +216,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.gradient_correction = cfg.gradient_correction;
   s.phys.force_correction = cfg.force_correction;
   s.phys.viscous_force = cfg.viscous_force == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
-  s.phys.pair_density = cfg.pair_density == "summation" ? PairDensity::Summation : PairDensity::Others;
+  s.phys.pair_density = cfg.pair_density == "others" ? PairDensity::Others : PairDensity::Summation;
   s.phys.kernel = kernel_from_name(cfg.kernel);
   s.phys.accretion_radius = cfg.accretion_radius;
   s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};

@@ -34,7 +34,7 @@ struct Config {
   bool gradient_correction = true;  // velocity gradient exact for linear fields (viscous_stress.hpp)
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
   std::string viscous_force = "consistent";  // consistent | conservative (physics/physics_params.hpp)
-  std::string pair_density = "others";       // others | summation (physics/physics_params.hpp, PairDensity)
+  std::string pair_density = "summation";    // summation | others (physics/physics_params.hpp, PairDensity)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   std::string pair_lists = "rescan";  // rescan | stored (rate_evaluator.hpp, PairStorage)

@@ -85,10 +85,11 @@ struct ForceListData {
   bool with_pressure, force_correction;
   const double* log_rho = nullptr;
   bool consistent = false;
-  // PairDensity::Others (physics_params.hpp): rho_i - m_i W(0, h_i) per particle, the smoothing
-  // lengths and the kernel; null: the summed densities' ratio.
+  // PairDensity::Others (physics_params.hpp): rho_i - m_i W(0, h_i) per particle, the kernel's
+  // factors 1 / h_i and sigma_D / h_i^D, and the kernel; null: the summed densities' ratio.
   const double* rho_without_self = nullptr;
-  const double* h = nullptr;
+  const double* inv_h = nullptr;
+  const double* w_norm = nullptr;
   KernelType kernel = KernelType::Cubic;
 };
 
@@ -98,10 +99,10 @@ struct ForceListData {
 template <int D>
 [[gnu::always_inline]] inline double others_log_ratio(const ForceListData<D>& d, std::uint32_t i, std::uint32_t j,
                                                       double r, double summed) {
-  const double hi = d.h[i], hj = d.h[j];
+  // W(r, h) = sigma_D / h^D w(r / h), with the per-particle factors of KernelAt<K, D>(h).
   const auto [wi, wj] = with_kernel(d.kernel, [&](auto k) {
     using K = decltype(k);
-    return std::pair{KernelAt<K, D>(hi).W(r), KernelAt<K, D>(hj).W(r)};
+    return std::pair{d.w_norm[i] * K::w(r * d.inv_h[i]), d.w_norm[j] * K::w(r * d.inv_h[j])};
   });
   const double rho_i = d.rho_without_self[i] - d.mass[j] * wi, rho_j = d.rho_without_self[j] - d.mass[i] * wj;
   return rho_i > 0 && rho_j > 0 ? std::log(rho_j / rho_i) : summed;

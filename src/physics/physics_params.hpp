@@ -40,7 +40,7 @@ struct PhysicsParams {
   bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
   ViscousForce viscous_force = ViscousForce::Consistent;  // discretisation of eq. 6's divergence (above)
-  PairDensity pair_density = PairDensity::Others;        // the consistent divergence's density ratio (above)
+  PairDensity pair_density = PairDensity::Summation;     // the consistent divergence's density ratio (above)
   KernelType kernel = KernelType::Cubic;                   // the summation's kernel (for PairDensity::Others)
   // Whether the particles hold the moment correction C_i = M_i^-1 (core/particles.hpp, correction).
   bool keeps_correction() const { return force_correction || viscous_force == ViscousForce::Consistent; }

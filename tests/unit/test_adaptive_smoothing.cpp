@@ -326,9 +326,9 @@ TEST(RateEvaluatorMemory, RescanKeepsNoPairLoopScratchAndReleasesWhatItRebuilds)
   EXPECT_TRUE(released.gradient_sums().empty());
   std::map<std::string, std::size_t> bytes;
   for (const auto& [part, b] : released.memory()) bytes[part] = b;
-  // The force loop's 1/rho, ln rho and rho - m W(0, h) (8 bytes per particle each) and the candidate
-  // filter's prefix (4); the gradient sums alone would be 64.
-  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * 4 * sizeof(double));
+  // The force loop's 1/rho, ln rho, rho - m W(0, h), 1/h and sigma/h^D (8 bytes per particle each)
+  // and the candidate filter's prefix (4); the gradient sums alone would be 64.
+  EXPECT_LT(bytes["per_particle_scratch"], p2.size() * 6 * sizeof(double));
   EXPECT_GT(bytes["cell_grid"], 0u);
   released.release_rebuilt_memory();
   for (const auto& [part, b] : released.memory()) EXPECT_EQ(b, 0u) << part;

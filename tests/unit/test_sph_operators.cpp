@@ -330,13 +330,15 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
 // W(r, h) = 10 / (7 pi h^2) (1 - 1.5 q^2 + 0.75 q^3), q = r / h < 1.
 TEST(ViscousForce, PairDensityLeavesOutThePairsOwnTerms) {
   const double r = 0.05;
-  std::vector<double> mass{2.0, 3.0}, h{0.1, 0.2}, without_self{500.0, 200.0};
+  std::vector<double> mass{2.0, 3.0}, inv_h{10.0, 5.0}, w_norm{10.0 / (7.0 * std::numbers::pi * 0.01), 10.0 / (7.0 * std::numbers::pi * 0.04)},
+      without_self{500.0, 200.0};
   auto W = [](double rr, double hh) {
     const double q = rr / hh;
     return 10.0 / (7.0 * std::numbers::pi * hh * hh) * (1 - 1.5 * q * q + 0.75 * q * q * q);
   };
   ForceListData<2> d{};
-  d.mass = mass.data(), d.h = h.data(), d.rho_without_self = without_self.data(), d.kernel = KernelType::Cubic;
+  d.mass = mass.data(), d.inv_h = inv_h.data(), d.w_norm = w_norm.data(), d.rho_without_self = without_self.data();
+  d.kernel = KernelType::Cubic;
   // W(0.05, 0.1) = 45.4728 x 0.71875 = 32.684; W(0.05, 0.2) = 11.3682 x 0.91797 = 10.436:
   // ln((200 - 2 x 10.436) / (500 - 3 x 32.684)) = ln(179.13 / 401.95) = -0.8082.
   const double expected = std::log((200.0 - 2.0 * W(r, 0.2)) / (500.0 - 3.0 * W(r, 0.1)));
