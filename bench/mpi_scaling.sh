@@ -34,7 +34,7 @@ for n in "${sizes[@]}"; do
     mpirun -np "$r" "${bind[@]}" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS="$threads" \
       build/release/sphdisk run configs/ring.toml -q --overwrite -o "$dir" --set problem.particles="$n" \
       --set "sph.smoothing=\"$smoothing\"" --set run.max_steps="$steps" --set checkpoint.every_seconds=0 \
-      --set 'output.tau=[0.126]' > /dev/null
+      --set 'output.tau=[0.126]' --set 'integrator.scheme="leapfrog"' --set 'sph.pair_lists="stored"' > /dev/null
     echo "done N=$n ranks=$r threads=$threads repeat=$k"
   done; done
 done

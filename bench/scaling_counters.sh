@@ -24,7 +24,8 @@ for n in "${sizes[@]}"; do for r in $ranks; do
   start=$(date +%s)
   mpirun -np "$r" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 -x OMPI_MCA_mpi_yield_when_idle=1 \
     build/release/sphdisk run configs/ring.toml -q --overwrite -o "$dir" --set problem.particles="$n" \
-    --set run.max_steps="$steps" --set checkpoint.every_seconds=0 --set 'output.tau=[0.126]' > /dev/null
+    --set run.max_steps="$steps" --set checkpoint.every_seconds=0 --set 'output.tau=[0.126]' \
+    --set 'integrator.scheme="leapfrog"' --set 'sph.pair_lists="stored"' > /dev/null
   cp "$dir/ranks.json" "$keep/ranks_N${n}_P${r}.json"
   cp "$dir/diagnostics.csv" "$keep/diagnostics_N${n}_P${r}.csv"
   rm -rf "$dir"

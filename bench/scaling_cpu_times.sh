@@ -14,7 +14,8 @@ for n in "${sizes[@]}"; do for rep in 1 2; do for r in 1 2; do for s in 2 12; do
   mpirun -np "$r" --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 -x OMPI_MCA_mpi_yield_when_idle=1 \
     bash -c '/usr/bin/time -f "%U %S" -o '"$dir"'.time.$OMPI_COMM_WORLD_RANK build/release/sphdisk run \
       configs/ring.toml -q --overwrite -o '"$dir"' --set problem.particles='"$n"' --set run.max_steps='"$s"' \
-      --set checkpoint.every_seconds=0 --set "output.tau=[0.126]"' > /dev/null
+      --set checkpoint.every_seconds=0 --set "output.tau=[0.126]" --set integrator.scheme=leapfrog \
+      --set sph.pair_lists=stored' > /dev/null
   for k in $(seq 0 $((r - 1))); do
     read -r user sys < "$dir.time.$k"
     echo "$n,$r,$s,$rep,$k,$user,$sys"
