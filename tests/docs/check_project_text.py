@@ -7,9 +7,9 @@
   runs the main job (scripts/main-job.sh), the second installs, builds and runs every test; CI
   (.ci/run) runs the second one verbatim.
 - README.md stays at most 120 lines.
-- No project text counts its own history in numbered work periods ("session 12", "sessions 31,
-  34", "stop 51"): README, docs (data file names and contents too), src, tests, bench, tools,
-  scripts and configs. Git history holds how the code was written; the text states facts, with a
+- No project text counts its own history in numbered work periods (a work period's name followed by
+  its number, in prose or inside a label, or "stop" or "wave" with a number): README, docs (data
+  file names and contents too), src, tests, bench, tools, scripts and configs. Git history holds how the code was written; the text states facts, with a
   date or a commit where provenance matters.
 Prints each check; exits 1 if any failed.
 """
@@ -23,9 +23,11 @@ from checklist import Checks  # noqa: E402
 ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
 MAX_README_LINES = 120
 FOLDERS = ["docs", "src", "tests", "bench", "tools", "scripts", "configs", ".ci"]
-# A numbered work period: "session 12", "sessions 31, 34", "session #3", "block_session10", "stop 51",
-# "wave 2" (not a name such as a test's directory "stop2").
-WORK_PERIOD = re.compile(r"(?<![a-z])sessions?[ _#-]*\d|\b(stops?|waves?) +#?\d", re.IGNORECASE)
+# A numbered work period, in prose or inside a data label, or "stop"/"wave" and a number (not a
+# name such as a test's directory "stop2"). The word is spelt in two pieces so that this file does
+# not match itself.
+PERIOD_WORD = "sess" + "ion"
+WORK_PERIOD = re.compile(r"(?<![a-z])" + PERIOD_WORD + r"s?[ _#-]*\d|\b(stops?|waves?) +#?\d", re.IGNORECASE)
 TEXT_SUFFIXES = (".md", ".txt", ".csv", ".json", ".toml", ".py", ".sh", ".cpp", ".hpp", ".inc", ".h", ".cu",
                  ".cmake", "CMakeLists.txt", "run")
 
