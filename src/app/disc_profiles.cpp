@@ -1,4 +1,5 @@
 #include "app/disc_profiles.hpp"
+#include "app/radial_motion.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,17 +15,10 @@ namespace sphdisk {
 
 namespace {
 
-// A /Parameters value (TOML text) by key; "" where absent.
-std::string parameter(const SnapshotMeta& meta, const std::string& key) {
-  for (const auto& [k, text] : meta.parameters)
-    if (k == key) return text;
-  return "";
-}
-
 // G M of the point mass in the file's units: from physics.central_mass (solar masses) and /Units
 // where both are recorded (sphdisk's own files: 1), else 1 (code units with G = M = 1 assumed).
 double point_mass_gm(const SnapshotMeta& meta) {
-  const std::string mass = parameter(meta, "physics.central_mass");
+  const std::string mass = meta.parameter("physics.central_mass");
   const UnitSystem& u = meta.units;
   const bool units_recorded = !(u.length_cm == 1 && u.mass_g == 1 && u.time_s == 1);
   if (mass.empty() || !units_recorded) return 1.0;
@@ -35,7 +29,7 @@ double point_mass_gm(const SnapshotMeta& meta) {
 
 bool is_ring_snapshot(const SnapshotMeta& meta) {
   if (!meta.problem.empty()) return meta.problem == "ring";
-  const std::string ic = parameter(meta, "problem.initial_conditions");
+  const std::string ic = meta.parameter("problem.initial_conditions");
   return ic.empty() || ic == "\"\"";
 }
 
@@ -64,14 +58,13 @@ DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int 
     if (!(fb >= 0 && fb < nbins)) continue;
     const auto b = static_cast<std::size_t>(fb);
     const double m = p.mass[i];
-    const double j = p.pos[i][0] * p.vel[i][1] - p.pos[i][1] * p.vel[i][0];
+    const RadialMotion motion = radial_motion(p, i, d.gm);
     DiscBin& bin = d.bins[b];
     ++bin.count;
     bin_mass[b] += m;
-    bin.vr += m * (p.pos[i][0] * p.vel[i][0] + p.pos[i][1] * p.vel[i][1]) / r;
-    // Guiding centre r_g = j^2 / (G M): only the non-central (viscous) force changes j.
-    bin.vr_drift += m * 2.0 * j * (p.pos[i][0] * p.acc[i][1] - p.pos[i][1] * p.acc[i][0]) / d.gm;
-    bin.j += m * j;
+    bin.vr += m * motion.vr;
+    bin.vr_drift += m * motion.drift;
+    bin.j += m * motion.j;
   }
   for (std::size_t b = 0; b < d.bins.size(); ++b) {
     DiscBin& bin = d.bins[b];

@@ -1,4 +1,5 @@
 #include "app/ring_analysis.hpp"
+#include "app/radial_motion.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,12 +18,9 @@ namespace {
 // sigma_2 w(0) of the run's kernel (/Parameters sph.kernel; cubic where absent): the self term of
 // the summation density is m sigma_2 w(0) / h^2.
 double self_weight(const SnapshotMeta& meta) {
-  std::string name = "cubic";
-  for (const auto& [key, text] : meta.parameters)
-    if (key == "sph.kernel") {
-      name = text;
-      std::erase(name, '"');
-    }
+  std::string name = meta.parameter("sph.kernel");
+  std::erase(name, '"');
+  if (name.empty()) name = "cubic";
   return with_kernel(kernel_from_name(name), [](auto k) { return KernelAt<decltype(k), 2>(1.0).W(0.0); });
 }
 
@@ -70,17 +68,14 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
     const double fb = (r - r_min * r0) / width;
     if (fb < 0 || fb >= nbins) continue;
     RingBin& bin = c.bins[static_cast<std::size_t>(fb)];
-    const double vr = (p.pos[i][0] * p.vel[i][0] + p.pos[i][1] * p.vel[i][1]) / r;
+    const RadialMotion motion = radial_motion(p, i, 1.0);  // G M = 1 in the file's code units
     ++bin.count;
     bin.sigma_sph += p.rho[i];
     bin.sigma_noself += noself;
     bin.sigma_ana += s_ana;
-    bin.vr_sph += vr;
+    bin.vr_sph += motion.vr;
     bin.vr_ana += sol.radial_velocity(r, c.tau);
-    // Guiding centre r_g = j^2 / (G M) with j = x v_y - y v_x; the torque of the (non-central)
-    // viscous force changes j, so d r_g / dt = 2 j (x a_y - y a_x) / (G M)  (G M = 1).
-    const double j = p.pos[i][0] * p.vel[i][1] - p.pos[i][1] * p.vel[i][0];
-    bin.vr_drift += 2.0 * j * (p.pos[i][0] * p.acc[i][1] - p.pos[i][1] * p.acc[i][0]);
+    bin.vr_drift += motion.drift;
     bin.sigma_mass += p.mass[i];
   }
   c.sigma_scatter = nsq ? std::sqrt(sq / static_cast<double>(nsq)) : 0.0;

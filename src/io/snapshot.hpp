@@ -29,6 +29,12 @@ struct SnapshotMeta {
   bool energy = false;             // InternalEnergy written / present
   UnitSystem units{1, 1, 1};
   std::vector<std::pair<std::string, std::string>> parameters;  // resolved config (key, TOML text)
+  // A parameter's TOML text by key; "" where absent.
+  std::string parameter(const std::string& key) const {
+    for (const auto& [k, text] : parameters)
+      if (k == key) return text;
+    return "";
+  }
   std::string run_id;              // Header RunID (app/run_identity.hpp); "" where absent
   std::string problem;             // Header Problem: "ring" (the generated ring) or "initial_conditions" (from a file); "" where absent
 };
