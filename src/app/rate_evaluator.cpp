@@ -387,6 +387,26 @@ void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
 // to spare; a solve that wants a wider search sets search_short_, and the evaluation is repeated
 // with twice the radii (as a rank's solve is repeated with more ghosts).
 template <int D>
+void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active) {
+  active = std::min(active, p.size());
+  if (smoothing_ != Smoothing::Adaptive) {
+    evaluate(p, active);
+    return;
+  }
+  history_.resize(2 * active);
+  par::for_each(active, [&](std::size_t i) {
+    history_[2 * i] = p.h_prev[i];
+    history_[2 * i + 1] = p.h_prev2[i];
+    p.h_prev[i] = p.h_prev2[i] = p.h[i];  // predicted_smoothing_length then starts from h
+  });
+  evaluate(p, active);
+  par::for_each(active, [&](std::size_t i) {
+    p.h_prev[i] = history_[2 * i];
+    p.h_prev2[i] = history_[2 * i + 1];
+  });
+}
+
+template <int D>
 bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
   const std::size_t n = p.size();
   if (!involved_enabled_ || domain_ || storage_ != PairStorage::Stored || active == 0 ||
@@ -613,7 +633,7 @@ int RateEvaluator<D>::tile_cells() const {
 template <int D>
 std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() const {
   std::size_t scratch = 0;
-  for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
+  for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_, &history_}) scratch += v->capacity() * sizeof(double);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity() + force_scratch_.log_rho.capacity() +
               force_scratch_.rho_without_self.capacity() + force_scratch_.inv_h.capacity() + force_scratch_.w_norm.capacity()) *

@@ -59,6 +59,12 @@ class RateEvaluator {
   // (neighbours/involved_particles.hpp) on the whole set's cell lattice and tiles: the same bits
   // as over all particles, at a cost that follows the active ones.
   void evaluate(Particles<D>& p, std::size_t active);
+  // Another evaluation of the same first `active` particles at the positions of the last one, with
+  // other velocities (the stages of a super-step, integrate/super_steps.hpp): their smoothing-length
+  // solves start from the h just solved for, and the h history is left as the last evaluation left
+  // it, so that the next step's extrapolation (physics/smoothing_length.hpp) does not see steps of
+  // zero length.
+  void evaluate_again(Particles<D>& p, std::size_t active);
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
   // its cells on the shared lattice, refreshes the ghosts between passes and removes them again.
@@ -180,6 +186,7 @@ class RateEvaluator {
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   NeighbourLists gather_copy_;  // with a list skin: the copy of candidates_ that the half lists lie in
   std::vector<double> search_radius_;
+  std::vector<double> history_;  // evaluate_again: the h history it keeps aside
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::vector<KernelSlope> slopes_;  // Adaptive: each particle's kernel slope (density.hpp)
   PairStorage storage_ = PairStorage::Stored;

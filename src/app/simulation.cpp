@@ -276,6 +276,8 @@ class Runner {
     ip.tolerance = cfg.tolerance;
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
+    ip.viscous_update = viscous_update_from_name(cfg.viscous_update);
+    ip.max_stages = cfg.max_stages;
     integrator_ = make_integrator<kDim>(ip, rates_);
     p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction()));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
@@ -845,7 +847,8 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   for (const auto& [key, earlier] : {std::pair{"viscous_force", "sph.viscous_force=\"conservative\""},
                                      std::pair{"pair_density", "sph.pair_density=\"summation\""},
                                      std::pair{"scheme", "integrator.scheme=\"leapfrog\""},
-                                     std::pair{"pair_lists", "sph.pair_lists=\"stored\""}})
+                                     std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
+                                     std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
     if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);
   const Config cfg = parse_config(state.config_toml, path, all_overrides);
   // Later checkpoints record what this run continues with, overrides included, so that a second

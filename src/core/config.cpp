@@ -179,8 +179,10 @@ const std::vector<KeyDef>& schema() {
       float_key("integrator.substep_factor", &Config::substep_factor, in_range(1e-6, 1),
                 "respa, block: gravity substeps <= factor / Omega"),
       float_key("integrator.force_factor", &Config::force_factor, in_range(1e-6, 1), "dt <= factor sqrt(h / |a|)"),
-      float_key("integrator.viscous_factor", &Config::viscous_factor, in_range(1e-6, 1), "dt <= factor h^2 / nu"),
+      float_key("integrator.viscous_factor", &Config::viscous_factor, in_range(1e-6, 10), "dt <= factor h^2 / nu"),
       float_key("integrator.courant_factor", &Config::courant_factor, in_range(1e-6, 1), "dt <= factor h / c_s"),
+      string_key("integrator.viscous_update", &Config::viscous_update, {"explicit", "super_steps"}, "block steps: explicit: kicks, the steps bounded by integrator.viscous_factor h^2 / nu; super_steps: the viscous rates advanced at each step's end by forward-Euler substeps or Runge-Kutta-Legendre stages, as few as the step needs in explicit limits 0.5 h^2 / nu (s stages reach (s^2 + s - 2) / 4 of them), so integrator.viscous_factor does not bound the steps (pressureless runs: physics.eos = \"none\")"),
+      int_key("integrator.max_stages", &Config::max_stages, 2, 1000, "super_steps: most Runge-Kutta-Legendre stages per update (steps up to 0.5 (s^2 + s - 2) / 4 h^2 / nu)"),
       float_key("integrator.dt_max", &Config::dt_max, non_negative(), "largest timestep in code units (0: no limit)"),
       increasing_list_key("output.tau", &Config::output_tau, "viscous times tau = 12 nu t / r0^2 of the snapshots; the run ends at the last (unless output.times or output.orbits is given)"),
       increasing_list_key("output.times", &Config::output_times, "times of the snapshots in code units (G = M = r0 = 1, one orbit at r0 is 2 pi), instead of output.tau; [] = not given", true),
@@ -330,6 +332,11 @@ void check_consistency(const Config& c) {
   if (c.list_skin > 0 && c.pair_lists == "rescan")
     throw UserError("config: sph.list_skin > 0 needs sph.pair_lists = \"stored\" (rescan keeps no lists to reuse); "
                     "set sph.list_skin = 0 or sph.pair_lists = \"stored\"");
+  if (c.viscous_update == "super_steps" && c.scheme != "block")
+    throw UserError("config: integrator.viscous_update = \"super_steps\" needs integrator.scheme = \"block\"");
+  if (c.viscous_update == "super_steps" && c.eos != "none")
+    throw UserError("config: integrator.viscous_update = \"super_steps\" advances pressureless runs only (pressure "
+                    "forces need the explicit kicks); set physics.eos = \"none\" or integrator.viscous_update = \"explicit\"");
   if (c.list_skin > 0 && c.scheme == "block")
     throw UserError("config: sph.list_skin > 0 cannot be used with integrator.scheme = \"block\" (its partial "
                     "evaluations reorder the particles, so lists are rebuilt every time); set sph.list_skin = 0");

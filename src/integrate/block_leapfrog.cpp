@@ -34,6 +34,14 @@
 // particle fields (kStepState, core/particles.hpp), so they move with it; between two ticks they,
 // the cycle's length and the ticks done are all a checkpoint needs to continue the cycle
 // (inside_step, step_state, resume_inside_step: integrator.hpp).
+//
+// With super-steps (ViscousUpdate::SuperSteps) a particle's step has no opening kick: it moves with
+// its velocity in the point mass's field, and at the step's end its hydrodynamic rates advance its
+// velocity (and energy) over the whole step at the positions reached, by forward-Euler substeps or a
+// Runge-Kutta-Legendre step (super_steps.hpp), with as few evaluations as the longest active step
+// needs in explicit viscous limits (the same number on every rank). The steps are then bounded by the orbital and force criteria and
+// by max_stages, not by h^2 / nu. v_kick holds the velocity the particle moves with, acc the mean
+// hydrodynamic acceleration of its last step (what neighbours predict its velocity with).
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -44,6 +52,7 @@
 #include "core/error.hpp"
 #include "integrate/integrator.hpp"
 #include "integrate/orbit_drift.hpp"
+#include "integrate/super_steps.hpp"
 
 namespace sphdisk {
 
@@ -53,6 +62,12 @@ constexpr int kMaxBins = 20;  // steps down to Delta / 2^20
 constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
 static_assert(kMaxBins < 32, "a step's start and length fit in 32 bits each (Particles::step_ticks)");
 constexpr std::size_t kDriftBlock = 1024;  // particles per work unit of the drift
+// Super-steps: the step, in h_i^2 / nu, that one forward-Euler update of the viscous rates takes
+// stably. The largest eigenvalue modulus of those rates on the ring is 0.68-0.88 nu / h_min^2 with
+// the consistent divergence and 1.95 with the conservative one at 10k-100k particles
+// (bench/viscous_spectrum.cpp; docs/design.md, "Viscosity past the h^2/nu limit"), so forward Euler
+// is stable to 1.03 h_min^2 / nu at least; this keeps a factor 2 from that.
+constexpr double kExplicitViscousLimit = 0.5;
 
 // The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
 std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
@@ -66,8 +81,11 @@ std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
 template <int D>
 class BlockLeapfrog final : public Integrator<D> {
  public:
-  BlockLeapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) : params_(params), rates_(rates) {
+  BlockLeapfrog(const IntegratorParams& params, RateEvaluator<D>& rates)
+      : params_(params), rates_(rates), super_steps_(params.viscous_update == ViscousUpdate::SuperSteps),
+        step_factors_(params.factors) {
     rates_.include_gravity(false);
+    if (super_steps_) step_factors_.viscous = kExplicitViscousLimit * rkl2_reach(params.max_stages);
   }
 
   void start(Particles<D>& p) override { rates_.evaluate(p); }
@@ -77,9 +95,16 @@ class BlockLeapfrog final : public Integrator<D> {
   // carry their steps (kStepState fields); the cycle's length and the ticks done are the rest.
   bool inside_step() const override { return now_ > 0; }
   bool keeps_step_state() const override { return true; }
-  std::vector<double> step_state() const override { return {cycle_, static_cast<double>(now_)}; }
+  // (The third value says whether the steps have opening kicks: a cycle cannot go on with the other
+  // update. Checkpoints written without it come from explicit steps.)
+  std::vector<double> step_state() const override {
+    return {cycle_, static_cast<double>(now_), super_steps_ ? 1.0 : 0.0};
+  }
   void resume_inside_step(const std::vector<double>& s) override {
-    if (s.size() != 2 || !(s[0] > 0) || !std::isfinite(s[0]) || !(s[1] >= 1) ||
+    if (s.size() == 3 && s[2] != (super_steps_ ? 1.0 : 0.0))
+      throw UserError(std::string("the checkpoint was written inside a block cycle with integrator.viscous_update = ") +
+                      (super_steps_ ? "\"explicit\"" : "\"super_steps\"") + ": resume it with that setting");
+    if ((s.size() != 2 && s.size() != 3) || !(s[0] > 0) || !std::isfinite(s[0]) || !(s[1] >= 1) ||
         !(s[1] < static_cast<double>(kTicks)) || s[1] != std::floor(s[1]))
       throw UserError("the checkpoint's block-cycle state is not valid (cycle length and ticks done); resume from "
                       "another checkpoint or start the run again");
@@ -96,7 +121,7 @@ class BlockLeapfrog final : public Integrator<D> {
       // Each particle's timestep is needed only to choose its step length: not kept (8 bytes per
       // particle less at the run's peak memory).
       std::vector<double> dt(n);
-      par::for_each(n, [&](std::size_t i) { dt[i] = particle_timestep(p, i, phys, f); }, "integration");
+      par::for_each(n, [&](std::size_t i) { dt[i] = particle_timestep(p, i, phys, step_factors_); }, "integration");
       const double smallest = rates_.global_min(smallest_timestep(n, [&](std::size_t i) { return dt[i]; }));
       const double largest = rates_.global_max(
           par::reduce(n, 0.0, [&](std::size_t i) { return dt[i]; }, [](double a, double b) { return std::max(a, b); }));
@@ -128,26 +153,33 @@ class BlockLeapfrog final : public Integrator<D> {
           drift_and_turn(p.pos.data() + i0, p.v_kick.data() + i0, p.stress.data() + i0, i1 - i0, dt, phys.gm, f.substep);
           for (std::size_t i = i0; i < i1; ++i) {
             // predicted to `next`: t - t_mid = (next - start - length / 2) ticks
-            const double ahead =
-                (static_cast<double>(next - start_of(p, i)) - 0.5 * static_cast<double>(length_of(p, i))) * tick;
+            // (with super-steps from the step's start: no opening kick)
+            const double ahead = (static_cast<double>(next - start_of(p, i)) -
+                                  (super_steps_ ? 0.0 : 0.5 * static_cast<double>(length_of(p, i)))) * tick;
             p.vel[i] = p.v_kick[i] + p.acc[i] * ahead;
             if (energy) p.u[i] = p.u_kick[i] + p.du_dt[i] * ahead;
           }
         }, "integration", 1);
         active = active_prefix(p, next);
       }
-      rates_.evaluate(p, active);
-      {
+      if (super_steps_) {
+        super_step_rates(p, active, tick, energy);
+      } else {
+        rates_.evaluate(p, active);
         ScopedPhase timer(rates_.timers(), "integration");
         par::for_each(active, [&](std::size_t i) {
           const double half = 0.5 * static_cast<double>(length_of(p, i)) * tick;
           p.vel[i] = p.v_kick[i] + p.acc[i] * half;  // closing kick
           if (energy) p.u[i] = p.u_kick[i] + p.du_dt[i] * half;
-          if (next == kTicks) return;  // synchronised at the end of the cycle: the next cycle opens
-          set_step(p, i, next, step_ticks(particle_timestep(p, i, phys, f), tick, next));
+        }, "integration");
+      }
+      if (next != kTicks) {
+        ScopedPhase timer(rates_.timers(), "integration");
+        par::for_each(active, [&](std::size_t i) {
+          set_step(p, i, next, step_ticks(particle_timestep(p, i, phys, step_factors_), tick, next));
           open_step(p, i, tick, energy);
         }, "integration");
-        if (next != kTicks) group_by_length(p, active);
+        group_by_length(p, active);
       }
       now = next;
       now_ = now < kTicks ? now : 0;
@@ -156,7 +188,9 @@ class BlockLeapfrog final : public Integrator<D> {
     return cycle_;
   }
 
-  std::size_t bytes() const override { return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t); }
+  std::size_t bytes() const override {
+    return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t) + velocities_.bytes() + energies_.bytes();
+  }
 
  private:
   // A particle's step: its start (high 32 bits of step_ticks) and length (low 32 bits), in ticks.
@@ -168,7 +202,7 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   void open_step(Particles<D>& p, std::size_t i, double tick, bool energy) {
-    const double half = 0.5 * static_cast<double>(length_of(p, i)) * tick;
+    const double half = super_steps_ ? 0.0 : 0.5 * static_cast<double>(length_of(p, i)) * tick;
     p.v_kick[i] = p.vel[i] + p.acc[i] * half;
     if (energy) p.u_kick[i] = p.u[i] + p.du_dt[i] * half;
   }
@@ -201,11 +235,21 @@ class BlockLeapfrog final : public Integrator<D> {
   // moved when they are in order already. At the start of a cycle (just after the particles were
   // put in cell order), so that each bin keeps that order.
   void sort_by_length(Particles<D>& p, std::size_t count) {
-    if (grouped(p, count)) return;
-    const std::array<std::size_t, kMaxBins + 2> first = bin_starts(p, count);
-    std::array<std::size_t, kMaxBins + 2> next = first;
+    sort_prefix(p, count, kMaxBins + 1, [&p](std::size_t i) { return bin(p, i); });
+  }
+
+  // Stable counting sort of the first `count` particles by key(i) < buckets; nothing is moved when
+  // they are in order already.
+  template <class Key>
+  void sort_prefix(Particles<D>& p, std::size_t count, std::size_t buckets, Key key) {
+    bool sorted = true;
+    for (std::size_t i = 1; i < count && sorted; ++i) sorted = key(i - 1) <= key(i);
+    if (sorted) return;
+    std::vector<std::size_t> next(buckets + 1, 0);
+    for (std::size_t i = 0; i < count; ++i) ++next[key(i) + 1];
+    for (std::size_t b = 1; b <= buckets; ++b) next[b] += next[b - 1];
     order_.resize(count);
-    for (std::size_t i = 0; i < count; ++i) order_[next[bin(p, i)]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < count; ++i) order_[next[key(i)]++] = static_cast<std::uint32_t>(i);
     p.for_each_field([this](const FieldInfo&, auto& v) { par::permute_prefix(v, order_, "integration"); });
   }
 
@@ -249,6 +293,55 @@ class BlockLeapfrog final : public Integrator<D> {
     p.for_each_field([this](const FieldInfo&, auto& v) { par::move_values(v, order_, holes_, "integration"); });
   }
 
+  // The active particles' hydrodynamic rates over their steps just ended, from the velocity (and
+  // energy) they moved with, at the positions reached: each takes as few evaluations as its step
+  // needs in explicit limits (super_steps.hpp), so the particles are ordered by that count, most
+  // first, and each evaluation after the first covers only those that still need it. acc then holds
+  // the mean acceleration over the step.
+  void super_step_rates(Particles<D>& p, std::size_t active, double tick, bool energy) {
+    const PhysicsParams& phys = rates_.physics();
+    const double nu = std::max(phys.nu, phys.nu_bulk);
+    const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
+    // (from the h just solved for)
+    const auto plan_of = [&](std::size_t i) {
+      return super_step_plan(nu > 0 ? tau(i) * nu / (kExplicitViscousLimit * p.h[i] * p.h[i]) : 0.0);
+    };
+    par::for_each(active, [&](std::size_t i) {
+      p.vel[i] = p.v_kick[i];
+      if (energy) p.u[i] = p.u_kick[i];
+    }, "integration");
+    rates_.evaluate(p, active);
+    int most = 1;
+    {
+      ScopedPhase timer(rates_.timers(), "integration");
+      const double mine = par::reduce(active, 1.0, [&](std::size_t i) { return double(plan_of(i).evaluations); },
+                                      [](double a, double b) { return std::max(a, b); });
+      most = static_cast<int>(rates_.global_max(mine));
+      if (most > 1) sort_prefix(p, active, static_cast<std::size_t>(most), [&](std::size_t i) {
+        return static_cast<std::size_t>(most - plan_of(i).evaluations);
+      });
+    }
+    const auto rate = [&](std::size_t m) { rates_.evaluate_again(p, m); };
+    const auto each = [](std::size_t m, auto&& f) { par::for_each(m, f, "integration"); };
+    velocities_.bind(p.vel, p.acc, active);
+    if (energy) {
+      energies_.bind(p.u, p.du_dt, active);
+      super_step(active, most, plan_of, tau, rate, each, velocities_, energies_);
+    } else {
+      super_step(active, most, plan_of, tau, rate, each, velocities_);
+    }
+    ScopedPhase timer(rates_.timers(), "integration");
+    par::for_each(active, [&](std::size_t i) {
+      const double t = tau(i);
+      p.acc[i] = (p.vel[i] - p.v_kick[i]) * (1.0 / t);
+      p.v_kick[i] = p.vel[i];
+      if (energy) {
+        p.du_dt[i] = (p.u[i] - p.u_kick[i]) / t;
+        p.u_kick[i] = p.u[i];
+      }
+    }, "integration");
+  }
+
   static std::size_t bin(const Particles<D>& p, std::size_t i) {
     return static_cast<std::size_t>(std::countr_zero(length_of(p, i)));
   }
@@ -263,6 +356,10 @@ class BlockLeapfrog final : public Integrator<D> {
 
   IntegratorParams params_;
   RateEvaluator<D>& rates_;
+  bool super_steps_;
+  TimestepFactors step_factors_;  // the steps' criteria (with super-steps, a viscous limit max_stages reach)
+  Rkl2Part<Vec<D>> velocities_;
+  Rkl2Part<double> energies_;
   double cycle_ = 0;       // the length of the cycle in progress
   std::uint64_t now_ = 0;  // its ticks done, while inside it (0 between cycles)
   std::vector<std::uint32_t> order_, holes_;

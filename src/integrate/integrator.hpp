@@ -21,11 +21,19 @@ namespace sphdisk {
 enum class Scheme { Leapfrog, Respa, Block, RK23, RK45 };
 Scheme scheme_from_name(const std::string& name);
 
+// How the block scheme advances the hydrodynamic rates over a particle's step: explicit kicks, whose
+// steps the viscous limit h^2 / nu bounds, or Runge-Kutta-Legendre super-steps at the end of each
+// step (integrate/super_steps.hpp), with as many stages as the step needs.
+enum class ViscousUpdate { Explicit, SuperSteps };
+ViscousUpdate viscous_update_from_name(const std::string& name);
+
 struct IntegratorParams {
   Scheme scheme = Scheme::Leapfrog;
   double tolerance = 1e-6;  // RK only: relative error per step in positions and velocities
   TimestepFactors factors;
   double dt_max = std::numeric_limits<double>::infinity();
+  ViscousUpdate viscous_update = ViscousUpdate::Explicit;  // block only
+  int max_stages = 16;  // super-steps: steps up to rkl2_reach(max_stages) explicit viscous limits
 };
 
 template <int D>

@@ -193,6 +193,12 @@ Scheme scheme_from_name(const std::string& name) {
   throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, respa, block, rk23 or rk45");
 }
 
+ViscousUpdate viscous_update_from_name(const std::string& name) {
+  if (name == "explicit") return ViscousUpdate::Explicit;
+  if (name == "super_steps") return ViscousUpdate::SuperSteps;
+  throw UserError("unknown integrator.viscous_update '" + name + "'; use explicit or super_steps");
+}
+
 template <int D>
 std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateEvaluator<D>& rates) {
   switch (params.scheme) {
