@@ -8,6 +8,7 @@
 //     pattern the discrete rates amplify instead of damping.
 //   build/release/bench/viscous_spectrum [--particles N] [--neighbours 60] [--iterations 200] [--seed 1]
 //       [--force consistent|conservative] [--pair-density summation|others] [--gradient-correction 1|0]
+//       [--stratified 0|1]
 // Prints both, each with the ratio of its Rayleigh quotient (mass-weighted) to the norm growth (1
 // when converged to a real eigenvalue), and 2 / |lambda| in h_min^2 / nu.
 #include <algorithm>
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   ViscousForce force = ViscousForce::Consistent;
   PairDensity density = PairDensity::Summation;
   bool correction = true;
+  bool stratified = false;  // radii at (k + U)/N quantiles (problem.placement = "stratified")
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string key = argv[k], val = argv[k + 1];
     if (key == "--particles") particles = std::stoul(val);
@@ -38,16 +40,18 @@ int main(int argc, char** argv) {
     else if (key == "--seed") seed = static_cast<unsigned>(std::stoul(val));
     else if (key == "--force") force = val == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
     else if (key == "--gradient-correction") correction = val != "0";
+    else if (key == "--stratified") stratified = val != "0";
     else if (key == "--pair-density") density = val == "others" ? PairDensity::Others : PairDensity::Summation;
     else {
       std::fprintf(stderr, "viscous_spectrum: unknown option %s (use --particles --neighbours --iterations --seed --force "
-                   "--pair-density --gradient-correction)\n", key.c_str());
+                   "--pair-density --gradient-correction --stratified)\n", key.c_str());
       return 2;
     }
   }
   RingSetup setup;
   setup.solution = RingSolution{1e-10, 1.0, 4.7786e-5};
   setup.particles = particles;
+  setup.stratified = stratified;
   const double h = ring_smoothing_length(setup, neighbours);
   PhysicsParams phys;
   phys.nu = setup.solution.viscosity;
@@ -100,6 +104,19 @@ int main(int argc, char** argv) {
     er2 += w * r * r;
     eh += w * p.h[i];
   }
+  // Its strongest particle: the distance to its nearest neighbour, against h and the mean spacing.
+  std::size_t top = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (dot(p.vel[i], p.vel[i]) * p.mass[i] > dot(p.vel[top], p.vel[top]) * p.mass[top]) top = i;
+  double nearest = 1e300;
+  for (std::size_t j = 0; j < p.size(); ++j)
+    if (j != top) nearest = std::min(nearest, norm(p.pos[j] - p.pos[top]));
+  const double spacing = p.h[top] / std::sqrt(neighbours / (4.0 * 3.141592653589793));  // (60 in (2h)^2 pi)
+  double share = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (norm(p.pos[i] - p.pos[top]) < 2.0 * p.h[top]) share += p.mass[i] * dot(p.vel[i], p.vel[i]);
+  std::printf("rightmost mode: strongest particle's nearest neighbour at %.3g h (%.3g mean spacings); %.3f of the "
+              "mode's energy within its 2h\n", nearest / p.h[top], nearest / spacing, share / e);
   const double h_min = *std::min_element(p.h.begin(), p.h.end());
   std::printf("rightmost mode: radius %.4g +- %.3g, mean h there %.3g h_min\n", er / e, std::sqrt(std::max(0.0, er2 / e - er * er / e / e)),
               eh / e / h_min);
