@@ -13,6 +13,7 @@
 #include "core/particles.hpp"
 #include "core/timers.hpp"
 #include "domain/particle_domain.hpp"
+#include "integrate/rate_source.hpp"
 #include "neighbours/candidate_filter.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/list_reuse.hpp"
@@ -44,27 +45,27 @@ PairStorage pair_storage_from_name(std::string_view name);
 
 
 template <int D>
-class RateEvaluator {
+class RateEvaluator final : public RateSource<D> {
  public:
   // h: the global smoothing length (Constant), or the typical one (Adaptive: cell size of the
   // reorder grid). neighbours: the target neighbour number that sets eta (Adaptive).
   RateEvaluator(KernelType kernel, double h, PhysicsParams phys, PhaseTimers& timers,
                 Smoothing smoothing = Smoothing::Constant, double neighbours = 60.0);
 
-  void evaluate(Particles<D>& p) { evaluate(p, p.size()); }
+  using RateSource<D>::evaluate;  // evaluate(p): all particles
   // Block timesteps: only the first `active` particles get new h, rho, stress, acc and du_dt; the
   // others keep their values and count as neighbours with them (as ghosts do). Every pair with an
   // active particle is still evaluated (r < 2 max(h_i, h_j)). With few active particles (one
   // process, stored lists) the evaluation works on a copy of the particles it involves
   // (neighbours/involved_particles.hpp) on the whole set's cell lattice and tiles: the same bits
   // as over all particles, at a cost that follows the active ones.
-  void evaluate(Particles<D>& p, std::size_t active);
+  void evaluate(Particles<D>& p, std::size_t active) override;
   // Another evaluation of the same first `active` particles at the positions of the last one, with
   // other velocities (the stages of a super-step, integrate/super_steps.hpp): their smoothing-length
   // solves start from the h just solved for, and the h history is left as the last evaluation left
   // it, so that the next step's extrapolation (physics/smoothing_length.hpp) does not see steps of
   // zero length.
-  void evaluate_again(Particles<D>& p, std::size_t active);
+  void evaluate_again(Particles<D>& p, std::size_t active) override;
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
   // its cells on the shared lattice, refreshes the ghosts between passes and removes them again.
@@ -72,13 +73,13 @@ class RateEvaluator {
   void set_domain(ParticleDomain<D>* domain) { domain_ = domain; }
   ParticleDomain<D>* domain() const { return domain_; }
   // Smallest / largest over all processes (timestep and error norms of the integrators).
-  double global_min(double x) const { return domain_ ? domain_->min(x) : x; }
-  double global_max(double x) const { return domain_ ? domain_->max(x) : x; }
+  double global_min(double x) const override { return domain_ ? domain_->min(x) : x; }
+  double global_max(double x) const override { return domain_ ? domain_->max(x) : x; }
 
   // Whether acc includes the point mass's gravity (default) or only the hydrodynamic part (for an
   // integrator that substeps gravity itself: the r-RESPA leapfrog, integrate/leapfrog.cpp, and the
   // block leapfrog, integrate/block_leapfrog.cpp).
-  void include_gravity(bool yes) { gravity_ = yes; }
+  void include_gravity(bool yes) override { gravity_ = yes; }
   bool includes_gravity() const { return gravity_; }
 
   // Neighbour-list reuse (neighbours/list_reuse.hpp): lists are built with radii (1 + skin) x the
@@ -113,9 +114,9 @@ class RateEvaluator {
 
   double smoothing_length() const { return h_; }
   Smoothing smoothing() const { return smoothing_; }
-  const PhysicsParams& physics() const { return phys_; }
+  const PhysicsParams& physics() const override { return phys_; }
   KernelType kernel() const { return kernel_; }
-  PhaseTimers& timers() { return timers_; }
+  PhaseTimers& timers() override { return timers_; }
   // Adaptive h: every particle's gather list (|x_i - x_j| < 2 h_i) of the last evaluation.
   // Constant h searches each pair once (pair_lists()) and leaves these empty.
   const NeighbourLists& neighbours() const { return candidates_; }

@@ -24,7 +24,7 @@
 // particles outside their bin's range). A step of 2^k ticks starts at a multiple of
 // 2^k, so the steps ending at tick t are exactly those of at most the largest power of two dividing
 // t: the active particles are always a prefix, and the rates are computed for the first n_active
-// particles (RateEvaluator::evaluate(p, active)). Only the active prefix gets new lengths, none
+// particles (RateSource::evaluate(p, active)). Only the active prefix gets new lengths, none
 // longer than that power of two (they must divide t) while every inactive one is longer, so
 // regrouping the prefix alone keeps the whole order: the integrator's own work per evaluation,
 // beyond the drift, scales with the active particles, not with all of them. Every choice depends
@@ -38,10 +38,10 @@
 // With super-steps (ViscousUpdate::SuperSteps) a particle's step has no opening kick: it moves with
 // its velocity in the point mass's field, and at the step's end its hydrodynamic rates advance its
 // velocity (and energy) over the whole step at the positions reached, by forward-Euler substeps or a
-// Runge-Kutta-Legendre step (super_steps.hpp), with as few evaluations as the longest active step
-// needs in explicit viscous limits (the same number on every rank). The steps are then bounded by the orbital and force criteria and
-// by max_stages, not by h^2 / nu. v_kick holds the velocity the particle moves with, acc the mean
-// hydrodynamic acceleration of its last step (what neighbours predict its velocity with).
+// Runge-Kutta-Legendre step (super_steps.hpp), with as few evaluations as its own step needs in
+// explicit viscous limits (super_step_rates). The steps are then bounded by the orbital and force
+// criteria and by max_stages, not by h^2 / nu. v_kick holds the velocity the particle moves with,
+// acc the mean hydrodynamic acceleration of its last step (what neighbours predict its velocity with).
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -81,7 +81,7 @@ std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
 template <int D>
 class BlockLeapfrog final : public Integrator<D> {
  public:
-  BlockLeapfrog(const IntegratorParams& params, RateEvaluator<D>& rates)
+  BlockLeapfrog(const IntegratorParams& params, RateSource<D>& rates)
       : params_(params), rates_(rates), super_steps_(params.viscous_update == ViscousUpdate::SuperSteps),
         step_factors_(params.factors) {
     rates_.include_gravity(false);
@@ -189,7 +189,8 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   std::size_t bytes() const override {
-    return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t) + velocities_.bytes() + energies_.bytes();
+    return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t) + velocities_.bytes() + energies_.bytes() +
+           plans_.capacity() * sizeof(SuperStepPlan);
   }
 
  private:
@@ -302,8 +303,8 @@ class BlockLeapfrog final : public Integrator<D> {
     const PhysicsParams& phys = rates_.physics();
     const double nu = std::max(phys.nu, phys.nu_bulk);
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
-    // (from the h just solved for)
-    const auto plan_of = [&](std::size_t i) {
+    // (from the h just solved for; fixed for the update, though the later evaluations solve for h anew)
+    const auto plan_at = [&](std::size_t i) {
       return super_step_plan(nu > 0 ? tau(i) * nu / (kExplicitViscousLimit * p.h[i] * p.h[i]) : 0.0);
     };
     par::for_each(active, [&](std::size_t i) {
@@ -314,13 +315,16 @@ class BlockLeapfrog final : public Integrator<D> {
     int most = 1;
     {
       ScopedPhase timer(rates_.timers(), "integration");
-      const double mine = par::reduce(active, 1.0, [&](std::size_t i) { return double(plan_of(i).evaluations); },
+      const double mine = par::reduce(active, 1.0, [&](std::size_t i) { return double(plan_at(i).evaluations); },
                                       [](double a, double b) { return std::max(a, b); });
       most = static_cast<int>(rates_.global_max(mine));
       if (most > 1) sort_prefix(p, active, static_cast<std::size_t>(most), [&](std::size_t i) {
-        return static_cast<std::size_t>(most - plan_of(i).evaluations);
+        return static_cast<std::size_t>(most - plan_at(i).evaluations);
       });
+      plans_.resize(active);
+      par::for_each(active, [&](std::size_t i) { plans_[i] = plan_at(i); }, "integration");
     }
+    const auto plan_of = [this](std::size_t i) { return plans_[i]; };
     const auto rate = [&](std::size_t m) { rates_.evaluate_again(p, m); };
     const auto each = [](std::size_t m, auto&& f) { par::for_each(m, f, "integration"); };
     velocities_.bind(p.vel, p.acc, active);
@@ -355,22 +359,23 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   IntegratorParams params_;
-  RateEvaluator<D>& rates_;
+  RateSource<D>& rates_;
   bool super_steps_;
   TimestepFactors step_factors_;  // the steps' criteria (with super-steps, a viscous limit max_stages reach)
   Rkl2Part<Vec<D>> velocities_;
   Rkl2Part<double> energies_;
+  std::vector<SuperStepPlan> plans_;  // each active particle's, during a super-step update
   double cycle_ = 0;       // the length of the cycle in progress
   std::uint64_t now_ = 0;  // its ticks done, while inside it (0 between cycles)
   std::vector<std::uint32_t> order_, holes_;
 };
 
 template <int D>
-std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) {
+std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateSource<D>& rates) {
   return std::make_unique<BlockLeapfrog<D>>(params, rates);
 }
 
-template std::unique_ptr<Integrator<2>> make_block_leapfrog(const IntegratorParams&, RateEvaluator<2>&);
-template std::unique_ptr<Integrator<3>> make_block_leapfrog(const IntegratorParams&, RateEvaluator<3>&);
+template std::unique_ptr<Integrator<2>> make_block_leapfrog(const IntegratorParams&, RateSource<2>&);
+template std::unique_ptr<Integrator<3>> make_block_leapfrog(const IntegratorParams&, RateSource<3>&);
 
 }  // namespace sphdisk

@@ -1,5 +1,6 @@
 #pragma once
-// Time integrators. Each advances (pos, vel, u) with the rates of RateEvaluator (acc, du_dt):
+// Time integrators. Each advances (pos, vel, u) with the rates of a RateSource (acc, du_dt;
+// integrate/rate_source.hpp, implemented by app/rate_evaluator.hpp):
 //  - KDK leapfrog: second order, symplectic for the gravity part; no secular radial drift
 //    of Kepler orbits (docs/physics.md sec. 3, "accuracy trap").
 //  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity
@@ -12,7 +13,7 @@
 #include <memory>
 #include <string>
 
-#include "app/rate_evaluator.hpp"
+#include "integrate/rate_source.hpp"
 #include "core/error.hpp"
 #include "integrate/timestep.hpp"
 
@@ -91,6 +92,6 @@ class Integrator {
 };
 
 template <int D>
-std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateEvaluator<D>& rates);
+std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateSource<D>& rates);
 
 }  // namespace sphdisk

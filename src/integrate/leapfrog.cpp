@@ -15,7 +15,7 @@
 // (particle_timestep on the SPH acceleration, timestep.hpp) and each particle follows its orbit with its own number of
 // substeps n_i = ceil(dt / (C_sub / Omega_i)), which depends only on its own state (so not on
 // thread or rank count). Both parts are symplectic KDK schemes: no secular drift of Kepler orbits.
-// acc then holds the hydrodynamic acceleration only (RateEvaluator::include_gravity(false)).
+// acc then holds the hydrodynamic acceleration only (RateSource::include_gravity(false)).
 #include <algorithm>
 #include <cmath>
 
@@ -27,7 +27,7 @@ namespace sphdisk {
 template <int D>
 class Leapfrog final : public Integrator<D> {
  public:
-  Leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates)
+  Leapfrog(const IntegratorParams& params, RateSource<D>& rates)
       : params_(params), rates_(rates), substep_gravity_(params.scheme == Scheme::Respa) {
     rates_.include_gravity(!substep_gravity_);
   }
@@ -73,18 +73,18 @@ class Leapfrog final : public Integrator<D> {
 
  private:
   IntegratorParams params_;
-  RateEvaluator<D>& rates_;
+  RateSource<D>& rates_;
   bool substep_gravity_;
   std::vector<Vec<D>> v_half_;
   std::vector<double> u_half_;
 };
 
 template <int D>
-std::unique_ptr<Integrator<D>> make_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates) {
+std::unique_ptr<Integrator<D>> make_leapfrog(const IntegratorParams& params, RateSource<D>& rates) {
   return std::make_unique<Leapfrog<D>>(params, rates);
 }
 
-template std::unique_ptr<Integrator<2>> make_leapfrog(const IntegratorParams&, RateEvaluator<2>&);
-template std::unique_ptr<Integrator<3>> make_leapfrog(const IntegratorParams&, RateEvaluator<3>&);
+template std::unique_ptr<Integrator<2>> make_leapfrog(const IntegratorParams&, RateSource<2>&);
+template std::unique_ptr<Integrator<3>> make_leapfrog(const IntegratorParams&, RateSource<3>&);
 
 }  // namespace sphdisk

@@ -56,7 +56,7 @@ struct StageRates {
 template <int D>
 class EmbeddedRungeKutta final : public Integrator<D> {
  public:
-  EmbeddedRungeKutta(const IntegratorParams& params, RateEvaluator<D>& rates, Tableau tab)
+  EmbeddedRungeKutta(const IntegratorParams& params, RateSource<D>& rates, Tableau tab)
       : params_(params), rates_(rates), tab_(std::move(tab)), k_(static_cast<std::size_t>(tab_.stages)) {}
 
   void start(Particles<D>& p) override { rates_.evaluate(p); }
@@ -170,7 +170,7 @@ class EmbeddedRungeKutta final : public Integrator<D> {
   }
 
   IntegratorParams params_;
-  RateEvaluator<D>& rates_;
+  RateSource<D>& rates_;
   Tableau tab_;
   std::vector<StageRates<D>> k_;
   std::vector<Vec<D>> x0_, v0_, a0_;
@@ -180,9 +180,9 @@ class EmbeddedRungeKutta final : public Integrator<D> {
 };
 
 template <int D>
-std::unique_ptr<Integrator<D>> make_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates);
+std::unique_ptr<Integrator<D>> make_leapfrog(const IntegratorParams& params, RateSource<D>& rates);
 template <int D>
-std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateEvaluator<D>& rates);
+std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateSource<D>& rates);
 
 Scheme scheme_from_name(const std::string& name) {
   if (name == "leapfrog") return Scheme::Leapfrog;
@@ -200,7 +200,7 @@ ViscousUpdate viscous_update_from_name(const std::string& name) {
 }
 
 template <int D>
-std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateEvaluator<D>& rates) {
+std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateSource<D>& rates) {
   switch (params.scheme) {
     case Scheme::RK23: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, bogacki_shampine());
     case Scheme::RK45: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, dormand_prince());
@@ -211,7 +211,7 @@ std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, R
   return make_leapfrog<D>(params, rates);
 }
 
-template std::unique_ptr<Integrator<2>> make_integrator(const IntegratorParams&, RateEvaluator<2>&);
-template std::unique_ptr<Integrator<3>> make_integrator(const IntegratorParams&, RateEvaluator<3>&);
+template std::unique_ptr<Integrator<2>> make_integrator(const IntegratorParams&, RateSource<2>&);
+template std::unique_ptr<Integrator<3>> make_integrator(const IntegratorParams&, RateSource<3>&);
 
 }  // namespace sphdisk
