@@ -133,25 +133,31 @@ std::string format_duration(double s) {
   return buf;
 }
 
-// The first non-finite value, naming particle, field and step ("" when all are finite).
+// A non-finite value, naming particle, field and step ("" when all are finite): of the fields, the one
+// most likely the cause (position, then velocity, acceleration, internal energy: a bad position
+// spreads to its neighbours' rates within a step), and of the particles with it the lowest ID, so
+// that the line does not depend on the particles' order.
 template <int D>
 std::string find_non_finite(const Particles<D>& p, long long step) {
-  const std::size_t bad = par::reduce(
-      p.size(), p.size(),
-      [&](std::size_t i) {
-        bool ok = p.u.empty() || std::isfinite(p.u[i]);  // (no internal energy without an energy equation)
-        for (int k = 0; k < D; ++k) ok = ok && std::isfinite(p.pos[i][k]) && std::isfinite(p.vel[i][k]) && std::isfinite(p.acc[i][k]);
-        return ok ? p.size() : i;
-      },
-      [](std::size_t a, std::size_t b) { return std::min(a, b); });
-  if (bad == p.size()) return "";
-  const char* field = "internal energy";
-  for (int k = 0; k < D; ++k) {
-    if (!std::isfinite(p.acc[bad][k])) field = "acceleration";
-    if (!std::isfinite(p.vel[bad][k])) field = "velocity";
-    if (!std::isfinite(p.pos[bad][k])) field = "position";
-  }
-  return "non-finite " + std::string(field) + " of particle ID " + std::to_string(p.id[bad]) + " at step " +
+  static constexpr const char* kFields[] = {"position", "velocity", "acceleration", "internal energy"};
+  constexpr int kFinite = 4;
+  const auto worst_field = [&](std::size_t i) {
+    int f = kFinite;
+    if (!p.u.empty() && !std::isfinite(p.u[i])) f = 3;  // (no internal energy without an energy equation)
+    for (int k = 0; k < D; ++k) {
+      if (!std::isfinite(p.acc[i][k])) f = std::min(f, 2);
+      if (!std::isfinite(p.vel[i][k])) f = std::min(f, 1);
+      if (!std::isfinite(p.pos[i][k])) f = 0;
+    }
+    return f;
+  };
+  using Found = std::pair<int, std::uint64_t>;  // (field, particle ID): the least is reported
+  const Found none{kFinite, 0};
+  const Found bad = par::reduce(
+      p.size(), none, [&](std::size_t i) { return Found{worst_field(i), static_cast<std::uint64_t>(p.id[i])}; },
+      [](const Found& a, const Found& b) { return std::min(a, b); });
+  if (bad.first == kFinite) return "";
+  return "non-finite " + std::string(kFields[bad.first]) + " of particle ID " + std::to_string(bad.second) + " at step " +
          std::to_string(step);
 }
 
@@ -276,7 +282,7 @@ class Runner {
     ip.tolerance = cfg.tolerance;
     ip.factors = {cfg.orbital_factor, cfg.force_factor, cfg.viscous_factor, cfg.courant_factor, cfg.substep_factor};
     if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
-    ip.viscous_update = viscous_update_from_name(cfg.viscous_update);
+    ip.viscous_update = viscous_update_from_name(cfg.resolved_viscous_update());
     ip.max_stages = cfg.max_stages;
     integrator_ = make_integrator<kDim>(ip, rates_);
     p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction()));

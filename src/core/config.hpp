@@ -45,8 +45,13 @@ struct Config {
   double orbital_factor = 0.25, force_factor = 0.25, viscous_factor = 0.1, courant_factor = 0.3;
   double substep_factor = 0.05;     // respa: gravity substeps <= factor / Omega
   double dt_max = 0;               // code units; 0: no limit
-  std::string viscous_update = "explicit";  // explicit | super_steps (integrate/integrator.hpp, ViscousUpdate)
+  std::string viscous_update = "auto";  // auto | explicit | super_steps (integrate/integrator.hpp, ViscousUpdate)
   int max_stages = 16;             // super_steps: most Runge-Kutta-Legendre stages per step
+  // The update viscous_update names: auto is super_steps where they apply (block steps, no pressure).
+  std::string resolved_viscous_update() const {
+    if (viscous_update != "auto") return viscous_update;
+    return scheme == "block" && eos == "none" ? "super_steps" : "explicit";
+  }
   // [output]
   std::vector<double> output_tau = {0.036, 0.054, 0.072, 0.090, 0.126};
   std::vector<double> output_times;   // code time (G = M = r0 = 1); when given, instead of output_tau
