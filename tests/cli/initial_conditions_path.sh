@@ -5,11 +5,7 @@
 set -uo pipefail
 sphdisk=$(realpath "$1")
 config=$(realpath "$(dirname "$0")/../validation/small_ring.toml")
-work=$(cd "$(mktemp -d)" && pwd -P)  # as the program sees it (getcwd resolves links)
-trap 'rm -rf "$work"' EXIT
-passed=0 failed=0
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
 small=(--set problem.particles=500 --set 'output.tau=[0.0182]' --set output.progress_interval=0)
 
 # Initial conditions: the first snapshot of a short ring run, in a set-up directory beside its
@@ -58,5 +54,4 @@ expect_missing "missing file of a configuration" "$work/setup/ics/none.hdf5" run
 expect_missing "missing file of --set" "$work/elsewhere/none.hdf5" run -q "$config" "${small[@]}" \
   --set 'problem.initial_conditions="none.hdf5"' -o out_m2
 
-echo "initial conditions path: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+finish "initial conditions path: "

@@ -7,11 +7,7 @@
 set -uo pipefail
 sphdisk=$1
 config="$(dirname "$0")/../validation/small_ring.toml"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0 failed=0
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
 # Output 1 is reached at step 5 and output 2 at step 10 (checked on the reference run).
 # The leapfrog: its steps, not block cycles, are what the step counts below assume.
 small=(--set problem.particles=500 --set 'output.tau=[0.0182, 0.0184]' --set output.progress_interval=0
@@ -89,5 +85,4 @@ else
   bad "chain of resumes: checkpoints at steps ${steps[*]}"
 fi
 
-echo "max_steps final snapshot: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+finish "max_steps final snapshot: "

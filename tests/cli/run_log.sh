@@ -7,11 +7,7 @@ set -uo pipefail
 sphdisk=$1
 mpiexec=${2:-}
 config="$(dirname "$0")/../validation/small_ring.toml"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0 failed=0
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
 # The leapfrog: its steps, not block cycles, are what the counts below assume.
 small=(--set problem.particles=500 --set 'output.tau=[0.0182, 0.0184]' --set output.progress_interval=1e-9
        --set 'integrator.scheme="leapfrog"')
@@ -92,5 +88,4 @@ if [ -n "$mpiexec" ]; then
   fi
 fi
 
-echo "run.log: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+finish "run.log: "

@@ -14,14 +14,10 @@ set -uo pipefail
 sphdisk=$1
 mpiexec=${2:-}
 config="$(dirname "$0")/small_ring.toml"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
 # ~55 block cycles (~130 substeps) to tau = 0.030.
 args=(--set problem.particles=4000 --set 'output.tau=[0.0186, 0.0300]' --set 'integrator.scheme="block"'
       --set output.progress_interval=0)
-passed=0 failed=0
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
 
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev/null || { echo "reference run failed"; exit 1; }
 
@@ -219,5 +215,4 @@ if [ -n "$mpiexec" ]; then
   fi
 fi
 
-echo "$passed passed, $failed failed"
-[ $failed -eq 0 ]
+finish ""

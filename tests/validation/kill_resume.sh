@@ -5,16 +5,12 @@
 set -uo pipefail
 sphdisk=$1
 config="$(dirname "$0")/small_ring.toml"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
 # ~490 leapfrog steps to tau = 0.030: long enough that every kill below lands mid-run (the kills wait
 # for steps, not seconds, so a faster build or machine does not move them past the run's end). Block
 # cycles, far fewer, are stopped and resumed by tests/validation/block_stop_resume.sh.
 args=(--set problem.particles=4000 --set 'output.tau=[0.0186, 0.0300]' --set checkpoint.every_steps=7 --set output.progress_interval=0
       --set 'integrator.scheme="leapfrog"' --set 'sph.pair_lists="stored"')
-passed=0 failed=0
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
 
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/ref" "${args[@]}" > /dev/null || { echo "reference run failed"; exit 1; }
 
@@ -127,5 +123,4 @@ if [ $rc -eq 2 ] && [ "$(wc -l < "$work/c.err")" -eq 1 ] && [ ! -e "$work/c/snap
 rc=$?
 if [ $rc -eq 2 ] && grep -q "no checkpoint" "$work/n.err"; then ok "missing checkpoint refused"; else bad "missing checkpoint: rc=$rc"; fi
 
-echo "kill and resume: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+finish "kill and resume: "
