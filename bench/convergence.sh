@@ -3,7 +3,7 @@
 # neighbour numbers, from tau = 0.018 to 0.09. Writes runs/convergence/table.md.
 # Usage: bench/convergence.sh [--plain] [--kernel NAME] [--neighbours "60 120"] [N ...]
 #   (default N: 10000 30000 100000)
-#   --plain: the paper's uncorrected velocity gradient (sph.gradient_correction = false)
+#   --plain: the paper's uncorrected velocity gradient (sph.gradient_correction = "none")
 #   --kernel: cubic (default), wendland_c2 or wendland_c4; the run directory gets the suffix _wc2/_wc4
 #   --constant: one global h (P98 sec. 5.3) instead of adaptive smoothing lengths; suffix _const
 set -euo pipefail
@@ -11,10 +11,10 @@ cd "$(dirname "$0")/.."
 exe=build/release/sphdisk
 out=runs/convergence
 mkdir -p "$out"
-variant="" correction=true neighbours="60 120" kernel=cubic smoothing=adaptive
+variant="" correction='"mixed"' neighbours="60 120" kernel=cubic smoothing=adaptive
 while [ $# -gt 0 ]; do
   case $1 in
-    --plain) variant=_plain correction=false; shift ;;
+    --plain) variant=_plain correction='"none"'; shift ;;
     --constant) variant="${variant}_const" smoothing=constant; shift ;;
     --neighbours) neighbours=$2; shift 2 ;;
     --kernel) kernel=$2; variant="${variant}_wc${2#wendland_c}"; shift 2 ;;
@@ -48,7 +48,7 @@ for d in sorted((p for p in out.glob("N*_nb*") if (p / "analysis.json").exists()
     cfg = tomllib.loads((d / "config.toml").read_text())
     n, nb, kernel = cfg["problem"]["particles"], cfg["sph"]["neighbours"], cfg["sph"]["kernel"]
     smoothing = cfg["sph"].get("smoothing", "constant")
-    gradient = "corrected" if cfg["sph"].get("gradient_correction", True) else "eq. 8 (plain)"
+    gradient = {True: "linear", False: "none"}.get(cfg["sph"].get("gradient_correction", "mixed"), cfg["sph"].get("gradient_correction", "mixed"))
     steps = sum(1 for _ in open(d / "diagnostics.csv")) - 2
     with warnings.catch_warnings():  # the analysis is of the last snapshot (tau = 0.09)
         warnings.simplefilter("ignore")

@@ -7,7 +7,7 @@
 //   - the one of largest real part (power iteration on L + |lambda| I): a positive one is a velocity
 //     pattern the discrete rates amplify instead of damping.
 //   build/release/bench/viscous_spectrum [--particles N] [--neighbours 60] [--iterations 200] [--seed 1]
-//       [--force consistent|conservative] [--pair-density summation|others] [--gradient-correction 1|0]
+//       [--force consistent|conservative] [--pair-density summation|others] [--gradient-correction mixed|linear|none]
 //       [--stratified 0|1]
 // Prints both, each with the ratio of its Rayleigh quotient (mass-weighted) to the norm growth (1
 // when converged to a real eigenvalue), and 2 / |lambda| in h_min^2 / nu.
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   ViscousForce force = ViscousForce::Consistent;
   PairDensity density = PairDensity::Summation;
-  bool correction = true;
+  GradientCorrection correction = GradientCorrection::Mixed;
   bool stratified = false;  // radii at (k + U)/N quantiles (problem.placement = "stratified")
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string key = argv[k], val = argv[k + 1];
@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
     else if (key == "--iterations") iterations = std::stoi(val);
     else if (key == "--seed") seed = static_cast<unsigned>(std::stoul(val));
     else if (key == "--force") force = val == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
-    else if (key == "--gradient-correction") correction = val != "0";
+    else if (key == "--gradient-correction")
+      correction = val == "none" ? GradientCorrection::None : val == "linear" ? GradientCorrection::Linear : GradientCorrection::Mixed;
     else if (key == "--stratified") stratified = val != "0";
     else if (key == "--pair-density") density = val == "others" ? PairDensity::Others : PairDensity::Summation;
     else {

@@ -365,8 +365,8 @@ void RateEvaluator<D>::release_rebuilt_memory() {
   reuse_.forget();  // the next evaluation builds its lists (no list to reuse is left)
   release_memory(grid_, candidates_, gather_copy_, search_radius_, slopes_, pairs_lists_, interacting_,
                  writable_filter_, factors_, gradient_sums_, heating_scratch_, force_scratch_.inv_rho,
-                 force_scratch_.p_over_rho2, force_scratch_.log_rho, force_scratch_.rho_without_self, force_scratch_.inv_h,
-                 force_scratch_.w_norm, solve_sums_, kept_, listed_h_, involved_, members_,
+                 force_scratch_.p_over_rho2, force_scratch_.log_rho, force_scratch_.rho_without_self, force_scratch_.scales,
+                 solve_sums_, kept_, listed_h_, involved_, members_,
                  predicted_h_);
   loop_lists_ = &pairs_lists_;
 }
@@ -605,7 +605,7 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   }
   {
     ScopedPhase t(timers_, "velocity_gradient");
-    compute_viscous_stress(p, pairs, phys_, gradient_sums_);
+    compute_viscous_stress(p, pairs, phys_, gradient_sums_, force_scratch_.scales);
     if (lean()) release_memory(gradient_sums_);
   }
   refresh_ghosts(p, GhostStage::Stress);
@@ -636,7 +636,7 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_, &history_}) scratch += v->capacity() * sizeof(double);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity() + force_scratch_.log_rho.capacity() +
-              force_scratch_.rho_without_self.capacity() + force_scratch_.inv_h.capacity() + force_scratch_.w_norm.capacity()) *
+              force_scratch_.rho_without_self.capacity() + 2 * force_scratch_.scales.capacity()) *
                  sizeof(double);
   scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_filter_.bytes();
   scratch += predicted_h_.capacity() * sizeof(double);

@@ -219,7 +219,9 @@ Setup make_setup(const Config& cfg) {
   s.phys.eos = cfg.eos == "isothermal" ? EquationOfState::Isothermal : EquationOfState::None;
   s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
   s.phys.evolve_energy = cfg.evolve_energy;
-  s.phys.gradient_correction = cfg.gradient_correction;
+  s.phys.gradient_correction = cfg.gradient_correction == "mixed"    ? GradientCorrection::Mixed
+                               : cfg.gradient_correction == "linear" ? GradientCorrection::Linear
+                                                                     : GradientCorrection::None;
   s.phys.force_correction = cfg.force_correction;
   s.phys.viscous_force = cfg.viscous_force == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
   s.phys.pair_density = cfg.pair_density == "others" ? PairDensity::Others : PairDensity::Summation;
@@ -285,7 +287,8 @@ class Runner {
     ip.viscous_update = viscous_update_from_name(cfg.resolved_viscous_update());
     ip.max_stages = cfg.max_stages;
     integrator_ = make_integrator<kDim>(ip, rates_);
-    p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction()));
+    p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction(),
+                                         setup_.phys.keeps_correction_shift()));
     integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
     if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
     t_out_ = output_times(cfg, setup_);

@@ -122,6 +122,18 @@ KeyDef string_key(std::string name, std::string Config::*m, std::vector<std::str
           [m](const Config& c) { return toml_text(c.*m); }};
 }
 
+// A string key that also takes the booleans of an earlier form of it: true -> if_true, false -> if_false.
+KeyDef string_or_bool_key(std::string name, std::string Config::*m, std::vector<std::string> allowed, std::string if_true,
+                          std::string if_false, std::string help) {
+  KeyDef k = string_key(std::move(name), m, std::move(allowed), std::move(help));
+  k.apply = [strings = k.apply, m, if_true, if_false](const toml::node& n, Config& c) -> std::string {
+    if (!n.is_boolean()) return strings(n, c);
+    c.*m = *n.value<bool>() ? if_true : if_false;
+    return "";
+  };
+  return k;
+}
+
 // may_be_empty: an optional list ([] = not given).
 KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std::string help, bool may_be_empty = false) {
   return {name, "list of numbers", std::move(help),
@@ -165,7 +177,7 @@ const std::vector<KeyDef>& schema() {
       int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
       string_key("sph.kernel", &Config::kernel, {"cubic", "wendland_c2", "wendland_c4"}, "smoothing kernel"),
       float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target neighbour number: sets eta (adaptive) or the global h from the initial conditions (constant)"),
-      bool_key("sph.gradient_correction", &Config::gradient_correction, "velocity gradient renormalised to be exact for linear fields (false: plain P98 eq. 8)"),
+      string_or_bool_key("sph.gradient_correction", &Config::gradient_correction, {"mixed", "linear", "none"}, "linear", "none", "the kernel gradient of the velocity gradient (eq. 8) and of the consistent viscous force: linear: made exact for linear fields (C = M^-1); mixed: the gradient of the Shepard-normalised kernel made exact for linear fields (Bonet & Lok 1999): a particle's own velocity does not enter its gradient, which removes the growing modes of the viscous rates on close pairs (docs/validation.md); about 1.9x the gradient and force loops' time; none: eq. 8 as printed (the consistent force keeps C); true and false, the key's earlier values, mean linear and none"),
       string_key("sph.smoothing", &Config::smoothing, {"adaptive", "constant"}, "adaptive: h_i = eta (m_i/rho_i)^(1/D) with eta from sph.neighbours (Phantom, GADGET); constant: one global h (P98 sec. 5.3)"),
       string_key("sph.viscous_force", &Config::viscous_force, {"consistent", "conservative"}, "divergence of the viscous stress (eq. 6): consistent: zero for a constant stress and exact for linear ones on any particle set (linear momentum conserved to the discretisation error); conservative: eq. 6 as printed (momentum and energy conserved to round-off, but too little spreading where viscosity acts within an orbit across a kernel, docs/validation.md)"),
       string_key("sph.pair_density", &Config::pair_density, {"summation", "others"}, "with the consistent viscous force, the densities whose ratio gives S . grad ln rho: summation: the summed densities (a contrast too small by a fraction that does not shrink with N); others: each without the pair's own two terms (rho - m W(0, h) - m' W(r, h)): the ring's spreading rate within 1% at 30k-200k, but stronger radial ripples from 100k on and 2x the force loop's time (docs/validation.md, \"The density a pair compares\")"),

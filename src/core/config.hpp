@@ -31,7 +31,7 @@ struct Config {
   int dimension = 2;
   std::string kernel = "cubic";
   double neighbours = 60;          // target mean neighbour number of the initial conditions
-  bool gradient_correction = true;  // velocity gradient exact for linear fields (viscous_stress.hpp)
+  std::string gradient_correction = "linear";  // mixed | linear | none (physics/physics_params.hpp, GradientCorrection)
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
   std::string viscous_force = "consistent";  // consistent | conservative (physics/physics_params.hpp)
   std::string pair_density = "summation";    // summation | others (physics/physics_params.hpp, PairDensity)

@@ -32,6 +32,8 @@ enum FieldFlag : unsigned {
                                // checkpoints of format 5, whose AbsentFields name it)
   kForceCorrectionOnly = 1u << 7,  // read and written only where a force reads the moment correction
                                    // (sph.force_correction, or the consistent viscous force)
+  kMixedCorrectionOnly = 1u << 8,  // read and written only where the consistent viscous force uses the
+                                   // mixed correction (PhysicsParams::keeps_correction_shift)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -57,6 +59,7 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(volume, Scalar, "Volume",            kRateState,                            2,  0,  0)     \
   X(stress, Tensor, "KinematicStress",   kReduced | kRateState,                 2,  0, -1)     \
   X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly, 0, 0, 0) \
+  X(correction_shift, Vector, "MomentCorrectionShift", kRateState | kMixedCorrectionOnly, -1, 0, 0) \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
@@ -78,10 +81,11 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 
 // The fields a run does not use, to be made absent (Particles::set_absent_fields): the block
 // integrator's state inside a step without block timesteps, the energy equation's fields without
-// one, the moment correction where no force reads it (PhysicsParams::keeps_correction).
-constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction) {
+// one, the moment correction where no force reads it (PhysicsParams::keeps_correction), its shift
+// where no force reads that (keeps_correction_shift).
+constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction, bool correction_shift) {
   return (step_state ? 0u : unsigned{kStepState}) | (energy ? 0u : unsigned{kEnergyOnly | kEnergyStepState}) |
-         (moment_correction ? 0u : unsigned{kForceCorrectionOnly});
+         (moment_correction ? 0u : unsigned{kForceCorrectionOnly}) | (correction_shift ? 0u : unsigned{kMixedCorrectionOnly});
 }
 
 template <int D>

@@ -29,6 +29,10 @@ struct Vec {
   friend constexpr Vec operator-(Vec a, const Vec& b) { return a -= b; }
   friend constexpr Vec operator*(Vec a, double s) { return a *= s; }
   friend constexpr Vec operator*(double s, Vec a) { return a *= s; }
+  friend constexpr Vec operator-(Vec a) {  // the sign flipped exactly
+    for (int k = 0; k < D; ++k) a[k] = -a[k];
+    return a;
+  }
   friend constexpr bool operator==(const Vec&, const Vec&) = default;
 };
 

@@ -445,7 +445,7 @@ void DistributedDomain<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
   switch (stage) {
     case GhostStage::SmoothingLength: halo_.refresh(comm_, p, {"h"}); break;
     case GhostStage::Density: halo_.refresh(comm_, p, {"rho", "volume"}); break;
-    case GhostStage::Stress: halo_.refresh(comm_, p, {"stress", "correction"}); break;
+    case GhostStage::Stress: halo_.refresh(comm_, p, {"stress", "correction", "correction_shift"}); break;
   }
   traffic_.halo_refresh += sent_traffic() - before;
 }

@@ -29,7 +29,10 @@ constexpr int kDim = 2;
 // AbsentFields: the field flags of the fields its particles did not have (Particles::absent_fields).
 // Format 6 (2026-12-04): the fields a run does not use may be absent too (kEnergyOnly without an
 // energy equation, kForceCorrectionOnly without the force correction: core/particles.hpp).
-constexpr long long kFormatVersion = 6;
+// Format 7 (2026-12-04): the mixed correction's shift (correction_shift, a kRateState field absent
+// where unused: kMixedCorrectionOnly), which earlier files never hold: they were written by runs
+// without it (their configurations name the linear or no gradient correction).
+constexpr long long kFormatVersion = 7;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
@@ -203,7 +206,8 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   s.step_state = out.version >= 5 && num("StepState") != 0;
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
   const unsigned may_be_absent =
-      kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u);
+      kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u) |
+      (out.version >= 7 ? unsigned{kMixedCorrectionOnly} : 0u);
   const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
   if (!(absent >= 0 && absent <= may_be_absent && absent == std::floor(absent)) ||
       (static_cast<unsigned>(absent) & ~may_be_absent) != 0)
@@ -220,7 +224,8 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<2>& p = out.particles;
-  p.set_absent_fields(static_cast<unsigned>(absent));
+  // Files before format 7 never hold the mixed correction's shift.
+  p.set_absent_fields(static_cast<unsigned>(absent) | (out.version < 7 ? unsigned{kMixedCorrectionOnly} : 0u));
   p.resize(rows_read);
   for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;

@@ -22,6 +22,7 @@
 #include "parallel/loops.hpp"
 #include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"
+#include "physics/kernel_scales.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
 
@@ -39,7 +40,7 @@ struct ForceScratch {
   OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (empty without pressure)
   OverwriteVector<double> log_rho;               // ln rho (empty without the consistent divergence)
   OverwriteVector<double> rho_without_self;      // rho - m W(0, h) (empty but with PairDensity::Others)
-  OverwriteVector<double> inv_h, w_norm;         // 1 / h and sigma_D / h^D (the same; KernelAt's factors)
+  OverwriteVector<KernelScale> scales;           // kernel scales (empty but where pairs need W_ij)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
@@ -62,28 +63,20 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   const bool others = consistent && phys.pair_density == PairDensity::Others;
   auto& rho_without_self = scratch.rho_without_self;
   renew_snug(rho_without_self, others ? p.size() : 0);
-  auto& inv_h = scratch.inv_h;
-  auto& w_norm = scratch.w_norm;
-  renew_snug(inv_h, others ? p.size() : 0);
-  renew_snug(w_norm, others ? p.size() : 0);
+  const KernelScale* scales = fill_kernel_scales(p, phys, scratch.scales, "forces");
   const double w0 = with_kernel(phys.kernel, [](auto k) { return KernelAt<decltype(k), D>(1.0).W(0.0); });
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
-    if (others) {
-      rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
-      with_kernel(phys.kernel, [&](auto k) {
-        const KernelAt<decltype(k), D> kern(p.h[i]);
-        inv_h[i] = kern.inv_h, w_norm[i] = kern.w_norm;
-      });
-    }
+    if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
     if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
                           phys.force_correction, consistent ? log_rho.data() : nullptr, consistent,
-                          others ? rho_without_self.data() : nullptr, inv_h.data(), w_norm.data(), phys.kernel};
+                          others ? rho_without_self.data() : nullptr,
+                          phys.keeps_correction_shift() ? p.correction_shift.data() : nullptr, scales, phys.kernel};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

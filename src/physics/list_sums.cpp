@@ -1,6 +1,7 @@
 #include "physics/list_sums.hpp"
 
 #include <algorithm>
+#include <cstddef>
 
 #include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
@@ -20,7 +21,7 @@ namespace {
 // undefined source may be used.
 
 static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions and velocities are read as interleaved x, y");
-static_assert(sizeof(GradientSums<2>) == 8 * sizeof(double), "a particle's gradient sums are one vector of eight");
+static_assert(offsetof(GradientSums<2>, M) == 4 * sizeof(double), "a particle's eq. 8 and moment sums are its first eight doubles");
 
 // Rows r[c] (component c of eight pairs) to columns r[k] (the eight components of pair k).
 [[gnu::target("avx512f"), gnu::always_inline]] inline void transpose8(__m512d r[8]) {
@@ -227,6 +228,7 @@ struct Round {
 void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<2>& sum_i) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
+  if (d.scales) return add_gradient_list_scalar(d, i, js, F, sum_i);
   if (vector_isa() == VectorIsa::avx512) return gradient_list_avx512(d, i, js.data(), F.data(), js.size(), sum_i);
   if (vector_isa() == VectorIsa::avx2) return gradient_list_avx2(d, i, js, F, sum_i);
 #endif

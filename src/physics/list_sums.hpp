@@ -13,12 +13,14 @@
 // pressure, no force correction, double-precision stress); the rest runs the scalar loop.
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <span>
 
 #include "core/overwrite_vector.hpp"
 #include "core/particles.hpp"
 #include "core/vec.hpp"
 #include "physics/kernels.hpp"
+#include "physics/pair_factors.hpp"
 #include "physics/pair_terms.hpp"
 
 namespace sphdisk {
@@ -35,12 +37,28 @@ void accumulate(Mat<D>& into, const Mat<D>& x) {
 }
 
 template <int D>
+void accumulate(ShepardSums<D>& into, const ShepardSums<D>& x) {
+  into.w += x.w;
+  into.g += x.g;
+  into.w_dv += x.w_dv;
+  into.w_dx += x.w_dx;
+}
+
+template <int D>
 void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
   accumulate(into.V, x.V);
   accumulate(into.M, x.M);
+  accumulate(into.shepard, x.shepard);
+}
+
+// The pair's kernel value W_ij (pair_average_value) from the particles' kernel scales.
+[[gnu::always_inline]] inline double pair_kernel_value(KernelType kernel, const KernelScale& si, const KernelScale& sj,
+                                                       double r) {
+  return with_kernel(kernel, [&](auto k) { return pair_average_value<decltype(k)>(si, sj, r); });
 }
 
 // What the gradient sums of a list read and write: sums[j] for the partners j < writable.
+// scales: every particle's kernel scale, where the mixed correction's sums are wanted (else null).
 template <int D>
 struct GradientListData {
   const Vec<D>* pos;
@@ -48,6 +66,8 @@ struct GradientListData {
   const double* volume;
   GradientSums<D>* sums;
   std::size_t writable;
+  const KernelScale* scales = nullptr;
+  KernelType kernel = KernelType::Cubic;
 };
 
 // (always_inline: list_sums.cpp compiles it for AVX2 too.)
@@ -58,10 +78,18 @@ template <int D>
   const double Vi = d.volume[i];
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
-    const GradientSums<D> shared = gradient_pair_products(d.vel[j] - vi, xi - d.pos[j]);
+    const Vec<D> dv = d.vel[j] - vi, dx = xi - d.pos[j];
+    const GradientSums<D> shared = gradient_pair_products(dv, dx);
     const double f = static_cast<double>(F[q]);
-    accumulate(sum_i, gradient_term(f, d.volume[j], shared));
-    if (j < d.writable) accumulate(d.sums[j], gradient_term(f, Vi, shared));
+    GradientSums<D> ti = gradient_term(f, d.volume[j], shared), tj = gradient_term(f, Vi, shared);
+    if (d.scales) {
+      const double W = pair_kernel_value(d.kernel, d.scales[i], d.scales[j], std::sqrt(norm2(dx)));
+      const Vec<D> g = kernel_gradient(dx, f);
+      ti.shepard = shepard_term(W, d.volume[j], g, dv, dx);
+      tj.shepard = shepard_term(W, Vi, -g, -dv, -dx);
+    }
+    accumulate(sum_i, ti);
+    if (j < d.writable) accumulate(d.sums[j], tj);
   }
 }
 
@@ -85,11 +113,13 @@ struct ForceListData {
   bool with_pressure, force_correction;
   const double* log_rho = nullptr;
   bool consistent = false;
-  // PairDensity::Others (physics_params.hpp): rho_i - m_i W(0, h_i) per particle, the kernel's
-  // factors 1 / h_i and sigma_D / h_i^D, and the kernel; null: the summed densities' ratio.
+  // PairDensity::Others (physics_params.hpp): rho_i - m_i W(0, h_i) per particle; null: the summed
+  // densities' ratio.
   const double* rho_without_self = nullptr;
-  const double* inv_h = nullptr;
-  const double* w_norm = nullptr;
+  // GradientCorrection::Mixed: C~_i e_i per particle (correction_shift); null: the linear correction.
+  const Vec<D>* correction_shift = nullptr;
+  // Every particle's kernel scale (with either of the two above), and the kernel.
+  const KernelScale* scales = nullptr;
   KernelType kernel = KernelType::Cubic;
 };
 
@@ -102,7 +132,7 @@ template <int D>
   // W(r, h) = sigma_D / h^D w(r / h), with the per-particle factors of KernelAt<K, D>(h).
   const auto [wi, wj] = with_kernel(d.kernel, [&](auto k) {
     using K = decltype(k);
-    return std::pair{d.w_norm[i] * K::w(r * d.inv_h[i]), d.w_norm[j] * K::w(r * d.inv_h[j])};
+    return std::pair{d.scales[i].w_norm * K::w(r * d.scales[i].inv_h), d.scales[j].w_norm * K::w(r * d.scales[j].inv_h)};
   });
   const double rho_i = d.rho_without_self[i] - d.mass[j] * wi, rho_j = d.rho_without_self[j] - d.mass[i] * wj;
   return rho_i > 0 && rho_j > 0 ? std::log(rho_j / rho_i) : summed;
@@ -132,9 +162,14 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
     if constexpr (Consistent) {
       double dl = d.log_rho[j] - log_rho_i;
-      if (d.rho_without_self) dl = others_log_ratio(d, i, j, std::sqrt(norm2(xi - d.pos[j])), dl);
-      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, Ci, as_double(d.correction[j]), dl, mi * inv_rho_i,
-                                                          mj * d.inv_rho[j], g);
+      const double r = d.scales ? std::sqrt(norm2(xi - d.pos[j])) : 0.0;
+      if (d.rho_without_self) dl = others_log_ratio(d, i, j, r, dl);
+      const Mat<D> Cj = as_double(d.correction[j]);
+      const PairTerms<Vec<D>> G =
+          d.correction_shift ? mixed_corrected_gradients(Ci, Cj, d.correction_shift[i], d.correction_shift[j],
+                                                         pair_kernel_value(d.kernel, d.scales[i], d.scales[j], r), g)
+                             : linear_corrected_gradients(Ci, Cj, g);
+      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, G, dl, mi * inv_rho_i, mj * d.inv_rho[j]);
       ai += a.to_i;
       if (j < d.writable) d.acc[j] += a.to_j;
     } else {
@@ -170,6 +205,7 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
 
 // 2D: the vector paths where the CPU has AVX-512 or AVX2 (and the case is covered), else the scalar
 // loop.
+// (The mixed correction's sums run the scalar loop.)
 void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<2>& sum_i);
 void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,

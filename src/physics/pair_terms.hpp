@@ -8,6 +8,8 @@
 // g = grad_i W_ij = dx F = -grad_j W_ji, V = m / rho a particle's volume, S the kinematic stress
 // (viscous_stress.hpp), C = M^-1 the moment correction (moment_correction.hpp). The operations and
 // their order are those the vector loops of list_sums.cpp repeat, so both give the same bits.
+#include <cmath>
+
 #include "core/vec.hpp"
 
 namespace sphdisk {
@@ -28,11 +30,23 @@ constexpr Vec<D> kernel_gradient(const Vec<D>& dx, double F) {
   return dx * F;
 }
 
+// The mixed correction's sums (physics_params.hpp, GradientCorrection::Mixed) over the neighbours j:
+// w = sum V_j W_ij, g = sum V_j grad_i W_ij, w_dv = sum V_j W_ij (v_j - v_i), w_dx = sum V_j W_ij
+// (x_i - x_j). From them (mixed_gradient_sums) the sums of eq. 8 and M with grad_i W_ij - W_ij e_i
+// in place of grad_i W_ij, e = g / w, follow without a second pass.
+template <int D>
+struct ShepardSums {
+  double w = 0;
+  Vec<D> g{}, w_dv{}, w_dx{};
+};
+
 // Eq. 8's sum V together with the moment matrix M_cb = -sum_j (m_j/rho_j) (W_,b / dx_b) dx_c dx_b of
-// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly.
+// the same neighbours, in one pass. For a linear field v = G x, V = G M exactly. shepard: only with
+// the mixed correction (zero otherwise).
 template <int D>
 struct GradientSums {
   Mat<D> V, M;
+  ShepardSums<D> shepard;
 };
 
 // What the pair's two terms in eq. 8 and M share: dv (x) dx and dx (x) dx. Both particles get the
@@ -63,6 +77,44 @@ constexpr GradientSums<D> gradient_term(double F, double V_other, const Gradient
   return t;
 }
 
+// One particle's terms in the mixed correction's sums, from the pair's kernel value W and gradient
+// g as that particle sees them: i gets shepard_term(W, V_j, g, dv, dx), j gets
+// shepard_term(W, V_i, -g, -dv, -dx) (grad_j W_ji = -g; j sees v_i - v_j and x_j - x_i).
+template <int D>
+constexpr ShepardSums<D> shepard_term(double W, double V_other, const Vec<D>& g, const Vec<D>& dv, const Vec<D>& dx) {
+  const double vw = V_other * W;
+  return {vw, g * V_other, dv * vw, dx * vw};
+}
+
+// The sums of eq. 8 and M for the kernel gradient grad_i W_ij - W_ij e_i (e = shepard.g / shepard.w):
+// V~ = V - w_dv (x) e and M~ = M + w_dx (x) e (M carries -dx (x) grad W). e: set to the shift used.
+// Any shift keeps the sums exact for linear fields; the full one, g / w, also removes the zeroth
+// moment. With it det M~ / det M = 1 + d, d = (g / w) . M^-1 w_dx (the matrix determinant lemma):
+// few, one-sided neighbours (a sparse edge) can make d approach -1, M~ nearly singular, C~ = M~^-1
+// huge and the viscous rates stiff. So where d < -1/4 the shift is scaled by s(-d) / (-d) with
+// s(x) = 1/4 + 1/4 tanh(4 (x - 1/4)): det M~ / det M = 1 - s(-d) > 1/2 for every d, and s joins
+// s(x) = x at 1/4 with equal first and second derivatives, so the rates stay smooth functions of the
+// positions (and the time integration keeps its order). Where i has no neighbour or M is singular,
+// e = 0: the linear correction.
+inline constexpr double kMixedFullShiftReach = 0.25;
+
+template <int D>
+GradientSums<D> mixed_gradient_sums(const GradientSums<D>& s, Vec<D>& e) {
+  e = Vec<D>{};
+  Mat<D> C;
+  if (!(s.shepard.w > 0) || !invert_if_well_conditioned(s.M, C)) return s;
+  e = s.shepard.g * (1.0 / s.shepard.w);
+  const double x = -dot(e, contract(C, s.shepard.w_dx)), x0 = kMixedFullShiftReach;
+  if (x > x0) e *= (x0 + x0 * std::tanh((x - x0) / x0)) / x;
+  GradientSums<D> t = s;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) {
+      t.V(a, b) -= s.shepard.w_dv[a] * e[b];
+      t.M(a, b) += s.shepard.w_dx[a] * e[b];
+    }
+  return t;
+}
+
 // The conservative form of eq. 6 without its masses: f = (S_i / rho_j + S_j / rho_i) . g, so that
 // a_i += m_j f and a_j -= m_i f (antisymmetric: momentum exact). Pressure, if any, is subtracted
 // from f before the masses (pressure_pair).
@@ -74,21 +126,37 @@ constexpr Vec<D> conservative_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, d
   return contract(X, g);
 }
 
-// The consistent divergence's viscous terms (docs/physics.md sec. 2, "Viscous force"):
-//   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . C_i g,
-//   a_j += V_i [S_j - S_i + S_j (ln rho_j - ln rho_i)] . C_j g     (grad_j W_ji = -g, dS and dl odd),
-// with dl = ln rho_j - ln rho_i. Zero for a constant stress and density; for linear ones each
-// particle's sum is their exact divergence (C = M^-1 makes the sum exact for linear fields).
+// The corrected kernel gradients of a pair for the consistent divergence: i's C_i g and minus j's,
+// -(C_j grad_j W_ji) = C_j g (physics_params.hpp, GradientCorrection::Linear).
 template <int D>
-constexpr PairTerms<Vec<D>> consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const Mat<D>& Ci,
-                                                    const Mat<D>& Cj, double dl, double Vi, double Vj, const Vec<D>& g) {
+constexpr PairTerms<Vec<D>> linear_corrected_gradients(const Mat<D>& Ci, const Mat<D>& Cj, const Vec<D>& g) {
+  return {contract(Ci, g), contract(Cj, g)};
+}
+
+// The same with the mixed correction: C~_i (g - W e_i) = C~_i g - W s_i and -(C~_j (-g - W e_j)) =
+// C~_j g + W s_j, with s = C~ e stored per particle (correction_shift).
+template <int D>
+constexpr PairTerms<Vec<D>> mixed_corrected_gradients(const Mat<D>& Ci, const Mat<D>& Cj, const Vec<D>& si,
+                                                      const Vec<D>& sj, double W, const Vec<D>& g) {
+  return {contract(Ci, g) - si * W, contract(Cj, g) + sj * W};
+}
+
+// The consistent divergence's viscous terms (docs/physics.md sec. 2, "Viscous force"):
+//   a_i += V_j [S_j - S_i + S_i (ln rho_j - ln rho_i)] . G_i,
+//   a_j += V_i [S_j - S_i + S_j (ln rho_j - ln rho_i)] . G_j     (dS and dl odd in i <-> j),
+// with dl = ln rho_j - ln rho_i and G = {G_i, G_j} the corrected gradients above (G_j is minus j's
+// own). Zero for a constant stress and density; for linear ones each particle's sum is their exact
+// divergence (the corrections make the sums exact for linear fields).
+template <int D>
+constexpr PairTerms<Vec<D>> consistent_viscous_pair(const Mat<D>& Si, const Mat<D>& Sj, const PairTerms<Vec<D>>& G,
+                                                    double dl, double Vi, double Vj) {
   Mat<D> Xi, Xj;
   for (std::size_t c = 0; c < Xi.c.size(); ++c) {
     const double dS = Sj.c[c] - Si.c[c];
     Xi.c[c] = dS + Si.c[c] * dl;
     Xj.c[c] = dS + Sj.c[c] * dl;
   }
-  return {contract(Xi, contract(Ci, g)) * Vj, contract(Xj, contract(Cj, g)) * Vi};
+  return {contract(Xi, G.to_i) * Vj, contract(Xj, G.to_j) * Vi};
 }
 
 // The moment-corrected, pair-symmetrised kernel gradient G_ij = (C_i + C_j) g / 2 (IAD0,

@@ -29,6 +29,19 @@ enum class ViscousForce { Conservative, Consistent };
 //   Summation: the summed densities as they are.
 enum class PairDensity { Others, Summation };
 
+// The kernel gradient of the velocity gradient (eq. 8) and of the consistent divergence
+// (viscous_stress.hpp, pair_terms.hpp), with V_k = m_k / rho_k and g_ik = grad_i W_ik:
+//   None:   g_ik as printed (eq. 8) for the velocity gradient; the consistent divergence keeps C_i.
+//   Linear: C_i g_ik with C_i = M_i^-1 (moment_correction.hpp): exact for linear fields.
+//   Mixed:  C~_i (g_ik - W_ik e_i), e_i = sum_k V_k g_ik / sum_k V_k W_ik: the gradient of the
+//           Shepard-normalised kernel, made exact for linear fields by its own moment matrix C~_i
+//           (the mixed correction of Bonet & Lok 1999). Its weights sum to zero over the neighbours,
+//           so a particle's own value does not enter its gradient; with Linear it enters as
+//           -C_i sum_k V_k g_ik, the zeroth-moment error of disordered particles, and the viscous
+//           rates then have growing modes on close pairs (docs/validation.md, "The viscous rates'
+//           spectrum").
+enum class GradientCorrection { None, Linear, Mixed };
+
 struct PhysicsParams {
   double gm = 1.0;                // G * M of the central point mass
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
@@ -37,13 +50,23 @@ struct PhysicsParams {
   double sound_speed = 0.0;       // isothermal sound speed c_s, P = c_s^2 rho
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
-  bool gradient_correction = true;  // discretisation: linear-exact velocity gradient (viscous_stress.hpp)
+  GradientCorrection gradient_correction = GradientCorrection::Linear;  // discretisation: the kernel gradient (above)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
   ViscousForce viscous_force = ViscousForce::Consistent;  // discretisation of eq. 6's divergence (above)
   PairDensity pair_density = PairDensity::Summation;     // the consistent divergence's density ratio (above)
   KernelType kernel = KernelType::Cubic;                   // the summation's kernel (for PairDensity::Others)
   // Whether the particles hold the moment correction C_i = M_i^-1 (core/particles.hpp, correction).
   bool keeps_correction() const { return force_correction || viscous_force == ViscousForce::Consistent; }
+  // Whether the particles hold the mixed correction's C~_i e_i (core/particles.hpp, correction_shift):
+  // the consistent divergence reads every neighbour's.
+  bool keeps_correction_shift() const {
+    return viscous_force == ViscousForce::Consistent && gradient_correction == GradientCorrection::Mixed;
+  }
+  // Whether a pair's kernel value W_ij enters the pair sums (the mixed correction, the others' densities).
+  bool needs_kernel_values() const {
+    return gradient_correction == GradientCorrection::Mixed ||
+           (viscous_force == ViscousForce::Consistent && pair_density == PairDensity::Others);
+  }
 };
 
 inline double pressure(const PhysicsParams& p, double rho) {

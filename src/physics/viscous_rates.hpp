@@ -22,7 +22,7 @@ void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const
   const std::size_t m = pairs.writable();
   zero_sums(m, sums);
   const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);
-  pairs.for_each_list_joined(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m)),
+  pairs.for_each_list_joined(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, d.scales)),
                              [&](std::uint32_t i) { settle_stress(p, i, sums[i], phys); }, force_list_body(p, d),
                              "gradient_and_forces");
 }

@@ -14,6 +14,7 @@
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
 #include "parallel/loops.hpp"
+#include "physics/kernel_scales.hpp"
 #include "physics/list_sums.hpp"
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
@@ -52,11 +53,15 @@ void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_l
 }
 
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
-// sized for the m writable particles.
+// sized for the m writable particles; with the mixed correction also its Shepard sums (scales:
+// every particle's kernel scale, kernel_scales.hpp).
 template <int D>
-auto gradient_pair_terms(const Particles<D>& p, GradientSumsArray<D>& sums, std::size_t m) {
-  return [&p, &sums, m](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, GradientSums<D>& sum_i) {
-    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), m};
+auto gradient_pair_terms(const Particles<D>& p, GradientSumsArray<D>& sums, std::size_t m, const PhysicsParams& phys,
+                         const KernelScale* scales) {
+  const bool mixed = phys.gradient_correction == GradientCorrection::Mixed;
+  return [&p, &sums, m, mixed, scales, kernel = phys.kernel](std::uint32_t i, std::span<const std::uint32_t> js,
+                                                            std::span<const float> F, GradientSums<D>& sum_i) {
+    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), m, mixed ? scales : nullptr, kernel};
     add_gradient_list(d, i, js, F, sum_i);
   };
 }
@@ -89,16 +94,26 @@ Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
 // Particle i's stress and heating from its complete gradient sums g.
 template <int D>
 void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, const PhysicsParams& phys) {
+  // With the mixed correction the velocity gradient and the consistent divergence's C come from the
+  // Shepard-shifted sums (pair_terms.hpp, mixed_gradient_sums), and s = C~ e is kept for the
+  // divergence's pairs (correction_shift).
+  const bool mixed = phys.gradient_correction == GradientCorrection::Mixed;
+  Vec<D> e;
+  const GradientSums<D> used = mixed ? mixed_gradient_sums(g, e) : g;
   // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
   // so that kinetic + internal energy stay exactly conserved.
-  const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(phys.gradient_correction ? corrected_gradient(g) : g.V, phys));
+  const Mat<D> V = phys.gradient_correction == GradientCorrection::None ? g.V : corrected_gradient(used);
+  const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(V, phys));
   const bool heating = !p.du_dt.empty();  // absent without an energy equation (core/particles.hpp)
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));
     if (heating) p.du_dt[i] = 0.5 * double_dot(S, g.V * C);  // C symmetric: V C_i^T = V C_i
   } else {
-    // The consistent divergence (physics_params.hpp) reads every neighbour's C.
-    if (phys.keeps_correction()) store(p.correction[i], correction_from_moments(g.M));
+    // The consistent divergence (physics_params.hpp) reads every neighbour's C (and s).
+    if (phys.keeps_correction()) {
+      const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(used.M));
+      if (phys.keeps_correction_shift()) p.correction_shift[i] = contract(C, e);
+    }
     if (!heating) return;
     // Heating with eq. 8's V: it is what pairs with the conservative force of forces.hpp, so kinetic +
     // internal energy stay exactly conserved with it whichever gradient sets the stress (with the
@@ -108,10 +123,13 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
 }
 
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
+// scales: scratch, the kernel scales (kernel_scales.hpp).
 template <int D, class Pairs>
-void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums) {
+void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums,
+                            OverwriteVector<KernelScale>& scales) {
   const std::size_t m = pairs.writable();
-  sum_pair_lists(pairs, sums, gradient_pair_terms(p, sums, m));
+  const KernelScale* s = fill_kernel_scales(p, phys, scales, "velocity_gradient");
+  sum_pair_lists(pairs, sums, gradient_pair_terms(p, sums, m, phys, s));
   par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
 }
 

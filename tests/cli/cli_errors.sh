@@ -49,6 +49,7 @@ expect_error list-skin-block "sph.list_skin > 0 cannot be used with integrator.s
 expect_error super-steps-scheme "integrator.viscous_update = \"super_steps\" needs integrator.scheme = \"block\"" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'integrator.viscous_update="super_steps"' --set 'integrator.scheme="leapfrog"' -o "$work/o1"
 expect_error super-steps-pressure "advances pressureless runs only" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'integrator.viscous_update="super_steps"' --set 'physics.eos="isothermal"' --set physics.sound_speed=1 -o "$work/o1"
 expect_error super-steps-name "integrator.viscous_update must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'integrator.viscous_update="rkl2"' -o "$work/o1"
+expect_error gradient-correction-name "sph.gradient_correction must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.gradient_correction="shepard"' -o "$work/o1"
 expect_error list-skin-rescan "sph.list_skin > 0 needs sph.pair_lists = \"stored\"" -- run "$(dirname "$0")/../validation/small_ring.toml" --set sph.list_skin=0.2 --set 'sph.pair_lists="rescan"' -o "$work/o1"
 expect_error pair-lists-name "sph.pair_lists must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.pair_lists="none"' -o "$work/o1"
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"

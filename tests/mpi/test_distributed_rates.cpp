@@ -116,6 +116,14 @@ TEST(DistributedRates, SameBitsWithPressureAndForceCorrection) {
   expect_distributed_equals_serial(phys, 5000, 256);
 }
 
+// The mixed gradient correction: its shift C~ e is a ghost field read by the consistent force.
+TEST(DistributedRates, MixedCorrectionSameBitsAsOneProcess) {
+  PhysicsParams phys;
+  phys.nu = 4.778e-5;
+  phys.gradient_correction = GradientCorrection::Mixed;
+  expect_distributed_equals_serial(phys, 6000, 256, 0.2, Smoothing::Adaptive, 1.0);
+}
+
 TEST(DistributedRates, SameBitsAfterParticlesLeftTheirRanksCells) {
   PhysicsParams phys;
   phys.nu = 4.778e-5;

@@ -226,7 +226,7 @@ TEST(Checkpoint, AbsentFieldsAreNeitherStoredNorExpected) {
 // expect them, and an earlier format, which always had them, may not claim them absent.
 TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
   Particles<2> p = sample_particles();
-  p.set_absent_fields(unused_fields(true, false, false));
+  p.set_absent_fields(unused_fields(true, false, false, false));
   const fs::path path = temp_file("unused.h5");
   RunState r;
   const Particles<2> q = round_trip(p, state_inside_a_cycle(), path, r);  // (with the rate state: stress, correction)

@@ -44,18 +44,28 @@ Particles<D> random_particles(std::size_t n, unsigned seed, bool clustered) {
   return p;
 }
 
-// The three discretisations of eq. 6's divergence (physics/physics_params.hpp): the conservative
-// form, the same with the force correction, and the consistent form (the default).
-enum class Form { Conservative, ForceCorrected, Consistent };
+// The discretisations of eq. 6's divergence (physics/physics_params.hpp): the conservative form, the
+// same with the force correction, and the consistent form (the default), with the linear gradient
+// correction (the default) or the mixed one.
+enum class Form { Conservative, ForceCorrected, Consistent, ConsistentMixed };
+
+inline bool is_consistent(Form form) { return form == Form::Consistent || form == Form::ConsistentMixed; }
 
 inline PhysicsParams with_form(PhysicsParams phys, Form form) {
-  phys.viscous_force = form == Form::Consistent ? ViscousForce::Consistent : ViscousForce::Conservative;
+  phys.viscous_force = is_consistent(form) ? ViscousForce::Consistent : ViscousForce::Conservative;
   phys.force_correction = form == Form::ForceCorrected;
+  phys.gradient_correction = form == Form::ConsistentMixed ? GradientCorrection::Mixed : GradientCorrection::Linear;
   return phys;
 }
 
 inline const char* form_name(Form form) {
-  return form == Form::Conservative ? "conservative" : form == Form::ForceCorrected ? "force-corrected" : "consistent";
+  switch (form) {
+    case Form::Conservative: return "conservative";
+    case Form::ForceCorrected: return "force-corrected";
+    case Form::Consistent: return "consistent";
+    case Form::ConsistentMixed: return "consistent, mixed correction";
+  }
+  return "";
 }
 
 // Physical viscosity nu and no point mass: the pair terms alone.

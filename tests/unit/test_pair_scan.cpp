@@ -275,7 +275,7 @@ void check_rates_equal_stored(Particles<D> p0, double h0, Smoothing smoothing, t
       ASSERT_NEAR(scanned_p.stress[i].c[c], stored_p.stress[i].c[c], 1e-12 * (std::abs(stored_p.stress[i].c[c]) + 1e-3)) << "particle " << i;
   }
   if constexpr (D == 2)  // the conservation check of test_helpers.hpp is written for 2D
-    if (active == p0.size() && form != test::Form::Consistent)
+    if (active == p0.size() && !test::is_consistent(form))
       test::expect_momentum_and_energy_conserved(scanned_p, "rescanned pairs");
 }
 
@@ -306,8 +306,12 @@ TEST(PairScan, RatesEqualStoredListsAdaptiveHConservative) {
 TEST(PairScan, RatesEqualStoredListsWithForceCorrection) {
   check_rates_equal_stored(Smoothing::Adaptive, test::Form::ForceCorrected, 1600);
 }
+TEST(PairScan, RatesEqualStoredListsWithMixedCorrection) {
+  check_rates_equal_stored(Smoothing::Adaptive, test::Form::ConsistentMixed, 1600);
+}
 TEST(PairScan, RatesEqualStoredListsForActiveParticles) {
   check_rates_equal_stored(Smoothing::Adaptive, test::Form::Consistent, 500);
+  check_rates_equal_stored(Smoothing::Adaptive, test::Form::ConsistentMixed, 500);
   check_rates_equal_stored(Smoothing::Constant, test::Form::Consistent, 700);
   check_rates_equal_stored(Smoothing::Adaptive, test::Form::Conservative, 500);
 }
@@ -315,6 +319,6 @@ TEST(PairScan, RatesEqualStoredListsForActiveParticles) {
 // The same in 3D (random particles, half of them clustered, so h varies; with pressure):
 // rescanned pairs give the rates of stored lists.
 TEST(PairScan, RatesEqualStoredLists3D) {
-  for (test::Form form : {test::Form::Consistent, test::Form::Conservative})
+  for (test::Form form : {test::Form::Consistent, test::Form::ConsistentMixed, test::Form::Conservative})
     check_rates_equal_stored(test::random_particles<3>(2000, 54, true), 0.05, Smoothing::Adaptive, form, 2000);
 }

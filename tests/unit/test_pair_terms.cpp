@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <span>
@@ -145,10 +146,76 @@ TEST(PairTerms, PressureForceAndWorkByHand) {
 //   a_1 += V_0 X_1 . C_1 g = 0.5 (-3.5, -3.25) = (-1.75, -1.625)
 // (a_1 from the definition: V_0 [S_0 - S_1 + S_1 (ln rho_0 - ln rho_1)] . C_1 (-g), the same).
 TEST(PairTerms, ConsistentForceByHand) {
-  const PairTerms<Vec<2>> a =
-      consistent_viscous_pair(P0.S, P1.S, P0.C, P1.C, P1.log_rho - P0.log_rho, volume(P0), volume(P1), kG);
+  const PairTerms<Vec<2>> G = linear_corrected_gradients(P0.C, P1.C, kG);
+  expect_vec(G.to_i, vec(4, 1), "C_0 g");
+  expect_vec(G.to_j, vec(2.5, 2), "C_1 g");
+  const PairTerms<Vec<2>> a = consistent_viscous_pair(P0.S, P1.S, G, P1.log_rho - P0.log_rho, volume(P0), volume(P1));
   expect_vec(a.to_i, vec(-4, -15), "a_0");
   expect_vec(a.to_j, vec(-1.75, -1.625), "a_1");
+}
+
+// The mixed correction's sums for particle 0 from its three pairs with W = 0.125, 0.5, 1
+// ((0, 2): dx = (0, -2), F = -0.5, g = (0, 1), dv = (-2, -2), V_2 = 0.5; (0, 3): dx = (1, 1), F = -2,
+// g = (-2, -2), dv = (-0.5, -1.5), V_3 = 0.5):
+//   (0, 1): V W = 0.25, V g = (4, 2),   V W dv = (-0.25, -0.25), V W dx = (-0.5, -0.25);
+//   (0, 2): V W = 0.25, V g = (0, 0.5), V W dv = (-0.5, -0.5),   V W dx = (0, -0.5);
+//   (0, 3): V W = 0.5,  V g = (-1, -1), V W dv = (-0.25, -0.75), V W dx = (0.5, 0.5);
+//   sums w = 1, g = (3, 1.5), w_dv = (-1, -1.5), w_dx = (0, -0.25), so e = (3, 1.5).
+// With eq. 8's V = [[-3.5, -2.5], [-2.5, -1.5]] and M = [[9, 5], [5, 4]] (det 11) of the three pairs:
+//   V~ = V - w_dv (x) e = [[-0.5, -1], [2, 0.75]],  M~ = M + w_dx (x) e = [[9, 5], [4.25, 3.625]] (det 11.375).
+// From the definitions: the shifted gradients V_k (g_k - W_k e) are (3.25, 1.625), (-0.75, 0.125) and
+// (-2.5, -1.75), whose sum is zero (the zeroth moment); sum_k of dv_k (x) them is V~, of -dx_k (x)
+// them is M~ (det M~ / det M = 1.034).
+// Particle 1's terms of (0, 1) with W = 0.25 (V_0 W = 0.125): g -> -V_0 g = (-1, -0.5),
+// w_dv = (0.125, 0.125), w_dx = (0.25, 0.125).
+TEST(PairTerms, MixedCorrectionSumsByHand) {
+  const ShepardSums<2> t10 = shepard_term(0.25, volume(P0), -kG, -kDv, -kDx);
+  EXPECT_EQ(t10.w, 0.125);
+  expect_vec(t10.g, vec(-1, -0.5), "-V_0 g");
+  expect_vec(t10.w_dv, vec(0.125, 0.125), "V_0 W (v_0 - v_1)");
+  expect_vec(t10.w_dx, vec(0.25, 0.125), "V_0 W (x_1 - x_0)");
+  const Vec<2> dx[3] = {kDx, vec(0, -2), vec(1, 1)}, dv[3] = {kDv, vec(-2, -2), vec(-0.5, -1.5)};
+  const double F[3] = {kF, -0.5, -2}, W[3] = {0.125, 0.5, 1}, V[3] = {volume(P1), 0.5, 0.5};
+  GradientSums<2> two, three;
+  for (int k = 0; k < 3; ++k) {
+    GradientSums<2> t = gradient_term(F[k], V[k], gradient_pair_products(dv[k], dx[k]));
+    t.shepard = shepard_term(W[k], V[k], kernel_gradient(dx[k], F[k]), dv[k], dx[k]);
+    accumulate(three, t);
+    if (k < 2) accumulate(two, t);
+  }
+  expect_vec(shepard_term(W[0], V[0], kG, kDv, kDx).g, vec(4, 2), "V_1 g");
+  expect_mat(three.V, mat(-3.5, -2.5, -2.5, -1.5), "V");
+  expect_mat(three.M, mat(9, 5, 5, 4), "M");
+  EXPECT_EQ(three.shepard.w, 1.0);
+  expect_vec(three.shepard.g, vec(3, 1.5), "sum V g");
+  expect_vec(three.shepard.w_dv, vec(-1, -1.5), "sum V W dv");
+  expect_vec(three.shepard.w_dx, vec(0, -0.25), "sum V W dx");
+  // d = det M~ / det M - 1 = 0.375 / 11 > -1/4: the full shift.
+  Vec<2> e;
+  const GradientSums<2> mixed = mixed_gradient_sums(three, e);
+  expect_vec(e, vec(3, 1.5), "e");
+  expect_mat(mixed.V, mat(-0.5, -1, 2, 0.75), "V~");
+  expect_mat(mixed.M, mat(9, 5, 4.25, 3.625), "M~");
+  // The first two pairs alone: w = 0.5, e = (8, 5), M = [[8, 4], [4, 3]] (det 8), w_dx = (-0.5, -0.75),
+  // M^-1 w_dx = (0.1875, -0.5), d = -1: the full shift would make M~ singular. It is scaled by
+  // s(1) / 1 = 1/4 + 1/4 tanh(3), and det M~ / det M = 1 - s(1) = 0.5012 (just above one half).
+  const GradientSums<2> scaled = mixed_gradient_sums(two, e);
+  const double s1 = 0.25 + 0.25 * std::tanh(3.0);
+  for (int a = 0; a < 2; ++a) EXPECT_NEAR(e[a], s1 * vec(8, 5)[a], 1e-15) << "e, scaled, component " << a;
+  const Mat<2>& M = scaled.M;
+  EXPECT_NEAR((M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0)) / 8.0, 1.0 - s1, 1e-14);
+  EXPECT_GT(1.0 - s1, 0.5);
+  // A particle with no neighbour: no shift.
+  mixed_gradient_sums(GradientSums<2>{}, e);
+  expect_vec(e, vec(0, 0), "e without neighbours");
+}
+
+// The mixed correction's gradients for the pair (0, 1) with W = 0.25, s_0 = (1, 0.5), s_1 = (0.5, -1):
+//   C_0 g - W s_0 = (4, 1) - (0.25, 0.125) = (3.75, 0.875),  C_1 g + W s_1 = (2.5, 2) + (0.125, -0.25) = (2.625, 1.75).
+TEST(PairTerms, MixedCorrectedGradientsByHand) {
+  const PairTerms<Vec<2>> G = mixed_corrected_gradients(P0.C, P1.C, vec(1, 0.5), vec(0.5, -1), 0.25, kG);
+  expect_vec(G.to_i, vec(3.75, 0.875), "G_0");
+  expect_vec(G.to_j, vec(2.625, 1.75), "G_1");
 }
 
 // Force correction for the pair (0, 1): G_01 = (C_0 g + C_1 g) / 2 = ((4, 1) + (2.5, 2)) / 2 = (3.25, 1.5).
@@ -167,7 +234,14 @@ struct Fields {
   std::vector<Vec<2>> pos, vel;
   std::vector<double> mass, inv_rho, volume, log_rho, Pr;
   std::vector<Mat<2, ReducedReal>> stress, correction;
+  std::vector<Vec<2>> correction_shift = {vec(1, 0.5), vec(0.5, -1), vec(0, 0), vec(-1, 1)};  // the mixed correction's s
+  std::vector<KernelScale> scales;  // cubic spline, h = 1, 2, 1, 0.5
 };
+
+// The pair (0, j)'s kernel value as the list bodies form it.
+double pair_w(const Fields& f, std::uint32_t j) {
+  return pair_kernel_value(KernelType::Cubic, f.scales[kOwner], f.scales[j], std::sqrt(norm2(kParticles[kOwner].x - kParticles[j].x)));
+}
 
 Fields fields() {
   Fields f;
@@ -185,6 +259,7 @@ Fields fields() {
     f.stress.push_back(S);
     f.correction.push_back(C);
   }
+  for (double h : {1.0, 2.0, 1.0, 0.5}) f.scales.push_back(scale_of(KernelAt<CubicSpline, 2>(h)));
   return f;
 }
 
@@ -195,25 +270,40 @@ struct ListSums {
   std::vector<T> stored = std::vector<T>(kWritable);
 };
 
-// Eq. 8 and M by the pair functions, pair by pair.
-ListSums<GradientSums<2>> gradient_by_pair_terms() {
+// Eq. 8 and M (and with the mixed correction its sums) by the pair functions, pair by pair.
+ListSums<GradientSums<2>> gradient_by_pair_terms(bool mixed) {
+  const Fields f = fields();
   ListSums<GradientSums<2>> s;
   const Particle& i = kParticles[kOwner];
   for (std::size_t q = 0; q < kPartners.size(); ++q) {
     const std::uint32_t j = kPartners[q];
     const Particle& pj = kParticles[j];
-    const GradientSums<2> products = gradient_pair_products(pj.v - i.v, i.x - pj.x);
-    accumulate(s.own, gradient_term(double{kFactors[q]}, volume(pj), products));
-    if (j < kWritable) accumulate(s.stored[j], gradient_term(double{kFactors[q]}, volume(i), products));
+    const Vec<2> dv = pj.v - i.v, dx = i.x - pj.x, g = kernel_gradient(dx, double{kFactors[q]});
+    const GradientSums<2> products = gradient_pair_products(dv, dx);
+    GradientSums<2> ti = gradient_term(double{kFactors[q]}, volume(pj), products);
+    GradientSums<2> tj = gradient_term(double{kFactors[q]}, volume(i), products);
+    if (mixed) {
+      ti.shepard = shepard_term(pair_w(f, j), volume(pj), g, dv, dx);
+      tj.shepard = shepard_term(pair_w(f, j), volume(i), -g, -dv, -dx);
+    }
+    accumulate(s.own, ti);
+    if (j < kWritable) accumulate(s.stored[j], tj);
   }
   return s;
+}
+
+void expect_shepard(const ShepardSums<2>& got, const ShepardSums<2>& want, const std::string& what) {
+  EXPECT_EQ(got.w, want.w) << what << " w";
+  expect_vec(got.g, want.g, what + " g");
+  expect_vec(got.w_dv, want.w_dv, what + " w_dv");
+  expect_vec(got.w_dx, want.w_dx, what + " w_dx");
 }
 
 }  // namespace
 
 TEST(PairTerms, GradientListSumsArePairTermSums) {
   const Fields f = fields();
-  const ListSums<GradientSums<2>> want = gradient_by_pair_terms();
+  const ListSums<GradientSums<2>> want = gradient_by_pair_terms(false);
   // By hand from the three pairs' terms for 0 ((0, 1) above; (0, 2): V [[0, -1], [0, -1]],
   // M [[0, 0], [0, 1]]; (0, 3): V [[0.5, 0.5], [1.5, 1.5]], M [[1, 1], [1, 1]]).
   expect_mat(want.own.V, mat(-3.5, -2.5, -2.5, -1.5), "V_0 by hand");
@@ -233,9 +323,24 @@ TEST(PairTerms, GradientListSumsArePairTermSums) {
   }
 }
 
+// With the mixed correction's sums (the scalar loop, whatever the CPU).
+TEST(PairTerms, MixedGradientListSumsArePairTermSums) {
+  const Fields f = fields();
+  const ListSums<GradientSums<2>> want = gradient_by_pair_terms(true);
+  EXPECT_GT(want.own.shepard.w, 0.0);
+  ListSums<GradientSums<2>> got;
+  const GradientListData<2> d{f.pos.data(), f.vel.data(), f.volume.data(), got.stored.data(), kWritable,
+                              f.scales.data(), KernelType::Cubic};
+  add_gradient_list(d, kOwner, kPartners, kFactors, got.own);
+  expect_mat(got.own.V, want.own.V, "V_0");
+  expect_mat(got.own.M, want.own.M, "M_0");
+  expect_shepard(got.own.shepard, want.own.shepard, "0");
+  for (std::size_t j = 1; j < kWritable; ++j) expect_shepard(got.stored[j].shepard, want.stored[j].shepard, std::to_string(j));
+}
+
 namespace {
 
-enum class Force { Conservative, ConservativePressure, CorrectedPressure, Consistent, ConsistentPressure };
+enum class Force { Conservative, ConservativePressure, CorrectedPressure, Consistent, ConsistentPressure, ConsistentMixed };
 
 const char* name(Force form) {
   switch (form) {
@@ -244,6 +349,7 @@ const char* name(Force form) {
     case Force::CorrectedPressure: return "force-corrected with pressure";
     case Force::Consistent: return "consistent";
     case Force::ConsistentPressure: return "consistent with pressure";
+    case Force::ConsistentMixed: return "consistent, mixed correction";
   }
   return "";
 }
@@ -257,7 +363,8 @@ struct ForceSums {
 ForceSums forces_by_pair_terms(Force form) {
   const bool pressure = form == Force::ConservativePressure || form == Force::CorrectedPressure ||
                         form == Force::ConsistentPressure;
-  const bool consistent = form == Force::Consistent || form == Force::ConsistentPressure;
+  const bool consistent = form == Force::Consistent || form == Force::ConsistentPressure || form == Force::ConsistentMixed;
+  const Fields fs = fields();
   ForceSums s;
   const Particle& i = kParticles[kOwner];
   for (std::size_t q = 0; q < kPartners.size(); ++q) {
@@ -267,8 +374,11 @@ ForceSums forces_by_pair_terms(Force form) {
     if (form == Force::CorrectedPressure) g = corrected_pair_gradient(i.C, pj.C, g);
     Vec<2> f;
     if (consistent) {
-      const PairTerms<Vec<2>> a =
-          consistent_viscous_pair(i.S, pj.S, i.C, pj.C, pj.log_rho - i.log_rho, i.m / i.rho, pj.m / pj.rho, g);
+      const PairTerms<Vec<2>> G =
+          form == Force::ConsistentMixed
+              ? mixed_corrected_gradients(i.C, pj.C, fs.correction_shift[kOwner], fs.correction_shift[j], pair_w(fs, j), g)
+              : linear_corrected_gradients(i.C, pj.C, g);
+      const PairTerms<Vec<2>> a = consistent_viscous_pair(i.S, pj.S, G, pj.log_rho - i.log_rho, i.m / i.rho, pj.m / pj.rho);
       s.acc.own += a.to_i;
       if (j < kWritable) s.acc.stored[j] += a.to_j;
     } else {
@@ -296,11 +406,12 @@ ForceSums forces_by_list(Force form, bool scalar) {
   std::vector<double> du(kParticles.size(), 0.0);
   const bool pressure = form == Force::ConservativePressure || form == Force::CorrectedPressure ||
                         form == Force::ConsistentPressure;
-  const bool consistent = form == Force::Consistent || form == Force::ConsistentPressure;
-  const ForceListData<2> d{f.pos.data(),     f.vel.data(),  f.stress.data(), f.correction.data(),
-                           f.mass.data(),    f.inv_rho.data(), f.Pr.data(),  acc.data(),
-                           du.data(),        kWritable,     pressure,        form == Force::CorrectedPressure,
-                           f.log_rho.data(), consistent};
+  const bool consistent = form == Force::Consistent || form == Force::ConsistentPressure || form == Force::ConsistentMixed;
+  ForceListData<2> d{f.pos.data(),     f.vel.data(),  f.stress.data(), f.correction.data(),
+                     f.mass.data(),    f.inv_rho.data(), f.Pr.data(),  acc.data(),
+                     du.data(),        kWritable,     pressure,        form == Force::CorrectedPressure,
+                     f.log_rho.data(), consistent};
+  if (form == Force::ConsistentMixed) d.correction_shift = f.correction_shift.data(), d.scales = f.scales.data();
   if (scalar) add_force_list_scalar(d, kOwner, kPartners, kFactors, s.acc.own, s.du.own);
   else add_force_list(d, kOwner, kPartners, kFactors, s.acc.own, s.du.own);
   EXPECT_EQ(acc[3], vec(0, 0)) << "a partner beyond the writable ones was written";
@@ -315,7 +426,7 @@ TEST(PairTerms, ForceListSumsArePairTermSums) {
   // (0, 3): m_3 f = 0.5 (-5.75, -4)).
   expect_vec(forces_by_pair_terms(Force::Conservative).acc.own, vec(6.375, 5.5), "conservative a_0 by hand");
   for (const Force form : {Force::Conservative, Force::ConservativePressure, Force::CorrectedPressure, Force::Consistent,
-                           Force::ConsistentPressure})
+                           Force::ConsistentPressure, Force::ConsistentMixed})
     for (const bool scalar : {true, false}) {
       const ForceSums want = forces_by_pair_terms(form), got = forces_by_list(form, scalar);
       const std::string what = std::string(scalar ? "scalar, " : "dispatched, ") + name(form);

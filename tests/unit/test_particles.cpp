@@ -11,19 +11,21 @@ namespace {
 
 // Fields set absent hold no memory, are skipped by every field visit (so sorts and copies move the
 // rest alone), and come back sized to the particles with zeros; the present ones keep their values.
-// The ring's run (leapfrog, no energy equation, no force correction) leaves out the block steps'
-// state, u, du_dt and the moment correction: 72 bytes per particle in 2D (56 with single-precision
-// fields); a run that uses them all leaves out nothing.
+// A run with the leapfrog, no energy equation and the conservative force leaves out the block
+// steps' state, u, du_dt, the moment correction and its shift: 88 bytes per particle in 2D (72 with
+// single-precision fields); a run that uses them all leaves out nothing.
 TEST(Particles, TheRingsRunLeavesOutWhatItDoesNotUse) {
   Particles<2> p = test::random_particles<2>(1000, 3, false);
   const std::size_t all = p.bytes();
-  p.set_absent_fields(unused_fields(false, false, false));
-  EXPECT_TRUE(p.u.empty() && p.du_dt.empty() && p.u_kick.empty() && p.correction.empty() && p.v_kick.empty());
+  p.set_absent_fields(unused_fields(false, false, false, false));
+  EXPECT_TRUE(p.u.empty() && p.du_dt.empty() && p.u_kick.empty() && p.correction.empty() && p.v_kick.empty() &&
+              p.correction_shift.empty());
   EXPECT_EQ(p.stress.size(), p.size());
   EXPECT_EQ(all - p.bytes(),
-            p.size() * (3 * sizeof(double) + sizeof(std::uint64_t) + sizeof(Vec<2>) + sizeof(Mat<2, ReducedReal>)));
-  EXPECT_EQ(unused_fields(true, true, true), 0u);
-  EXPECT_EQ(unused_fields(true, false, true) & kForceCorrectionOnly, 0u);
+            p.size() * (3 * sizeof(double) + sizeof(std::uint64_t) + 2 * sizeof(Vec<2>) + sizeof(Mat<2, ReducedReal>)));
+  EXPECT_EQ(unused_fields(true, true, true, true), 0u);
+  EXPECT_EQ(unused_fields(true, false, true, false) & kForceCorrectionOnly, 0u);
+  EXPECT_EQ(unused_fields(true, false, true, true) & kMixedCorrectionOnly, 0u);
 }
 
 TEST(Particles, AbsentFieldsCostNothingAndComeBackAsZeros) {
