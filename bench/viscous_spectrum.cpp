@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   ViscousForce force = ViscousForce::Consistent;
   PairDensity density = PairDensity::Summation;
-  GradientCorrection correction = GradientCorrection::Mixed;
+  GradientCorrection correction = PhysicsParams{}.gradient_correction;  // the default: linear
   bool stratified = false;  // radii at (k + U)/N quantiles (problem.placement = "stratified")
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string key = argv[k], val = argv[k + 1];
@@ -39,13 +39,13 @@ int main(int argc, char** argv) {
     else if (key == "--iterations") iterations = std::stoi(val);
     else if (key == "--seed") seed = static_cast<unsigned>(std::stoul(val));
     else if (key == "--force") force = val == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
-    else if (key == "--gradient-correction")
+    else if (key == "--gradient-correction" && (val == "none" || val == "linear" || val == "mixed"))
       correction = val == "none" ? GradientCorrection::None : val == "linear" ? GradientCorrection::Linear : GradientCorrection::Mixed;
     else if (key == "--stratified") stratified = val != "0";
     else if (key == "--pair-density") density = val == "others" ? PairDensity::Others : PairDensity::Summation;
     else {
-      std::fprintf(stderr, "viscous_spectrum: unknown option %s (use --particles --neighbours --iterations --seed --force "
-                   "--pair-density --gradient-correction --stratified)\n", key.c_str());
+      std::fprintf(stderr, "viscous_spectrum: unknown option or value %s (use --particles --neighbours --iterations --seed --force "
+                   "--pair-density --gradient-correction none|linear|mixed --stratified)\n", key.c_str());
       return 2;
     }
   }

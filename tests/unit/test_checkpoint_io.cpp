@@ -249,6 +249,41 @@ TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
   }
 }
 
+// The mixed gradient correction's shift (correction_shift, format 7) round-trips where a run uses it;
+// a format-6 file, which never held it, reads without it, and may not claim it absent (256 was no
+// flag then). The format-6 file is this writer's file of a run without the shift, with the two
+// attributes that differ set to their format-6 values (neither is in the checksum).
+TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
+  Particles<2> p = sample_particles();
+  p.set_absent_fields(unused_fields(true, false, true, true));
+  for (std::size_t i = 0; i < p.size(); ++i) p.correction_shift[i] = Vec<2>{{0.1 * static_cast<double>(i), -1.0}};
+  const fs::path path = temp_file("shift.h5");
+  RunState r;
+  const Particles<2> q = round_trip(p, state_inside_a_cycle(), path, r);
+  expect_same_bits(p.correction_shift, q.correction_shift);
+
+  Particles<2> linear = sample_particles();
+  linear.set_absent_fields(unused_fields(true, false, true, false));
+  write_checkpoint(path.string(), linear, state_inside_a_cycle());
+  const auto set_format6 = [&](long long absent) {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+    h5::write_attr(g, "FormatVersion", 6LL);
+    h5::write_attr(g, "AbsentFields", absent);
+  };
+  set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kMixedCorrectionOnly}));
+  const Particles<2> old = read_checkpoint(path.string(), r);
+  EXPECT_TRUE(old.correction_shift.empty());
+  expect_same_bits(linear.correction, old.correction);
+  set_format6(static_cast<long long>(linear.absent_fields()));
+  try {
+    read_checkpoint(path.string(), r);
+    ADD_FAILURE() << "a format-6 checkpoint claiming flag 256 absent was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   const Particles<2> p = sample_particles();
   const fs::path path = temp_file("swapped.h5");
