@@ -51,10 +51,10 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
   accumulate(into.shepard, x.shepard);
 }
 
-// The pair's kernel value W_ij (pair_average_value) from the particles' kernel scales.
-[[gnu::always_inline]] inline double pair_kernel_value(KernelType kernel, const KernelScale& si, const KernelScale& sj,
-                                                       double r) {
-  return with_kernel(kernel, [&](auto k) { return pair_average_value<decltype(k)>(si, sj, r); });
+// The pair's kernel values (pair_factors.hpp) from the particles' kernel scales.
+[[gnu::always_inline]] inline PairValues pair_kernel_values(KernelType kernel, const KernelScale& si, const KernelScale& sj,
+                                                            double r) {
+  return with_kernel(kernel, [&](auto k) { return pair_kernel_values<decltype(k)>(si, sj, r); });
 }
 
 // What the gradient sums of a list read and write: sums[j] for the partners j < writable.
@@ -83,7 +83,7 @@ template <int D>
     const double f = static_cast<double>(F[q]);
     GradientSums<D> ti = gradient_term(f, d.volume[j], shared), tj = gradient_term(f, Vi, shared);
     if (d.scales) {
-      const double W = pair_kernel_value(d.kernel, d.scales[i], d.scales[j], std::sqrt(norm2(dx)));
+      const double W = pair_average_value(pair_kernel_values(d.kernel, d.scales[i], d.scales[j], std::sqrt(norm2(dx))));
       const Vec<D> g = kernel_gradient(dx, f);
       ti.shepard = shepard_term(W, d.volume[j], g, dv, dx);
       tj.shepard = shepard_term(W, Vi, -g, -dv, -dx);
@@ -124,17 +124,12 @@ struct ForceListData {
 };
 
 // ln(rho_j / rho_i) of the densities without the pair's own terms (PairDensity::Others):
-// rho_i - m_i W(0, h_i) - m_j W(r, h_i) over the same for j; where either is not positive (a
-// particle with no other neighbour) the summed densities' ratio.
+// rho_i - m_i W(0, h_i) - m_j W(r, h_i) over the same for j, with w the pair's kernel values; where
+// either is not positive (a particle with no other neighbour) the summed densities' ratio.
 template <int D>
 [[gnu::always_inline]] inline double others_log_ratio(const ForceListData<D>& d, std::uint32_t i, std::uint32_t j,
-                                                      double r, double summed) {
-  // W(r, h) = sigma_D / h^D w(r / h), with the per-particle factors of KernelAt<K, D>(h).
-  const auto [wi, wj] = with_kernel(d.kernel, [&](auto k) {
-    using K = decltype(k);
-    return std::pair{d.scales[i].w_norm * K::w(r * d.scales[i].inv_h), d.scales[j].w_norm * K::w(r * d.scales[j].inv_h)};
-  });
-  const double rho_i = d.rho_without_self[i] - d.mass[j] * wi, rho_j = d.rho_without_self[j] - d.mass[i] * wj;
+                                                      const PairValues& w, double summed) {
+  const double rho_i = d.rho_without_self[i] - d.mass[j] * w.i, rho_j = d.rho_without_self[j] - d.mass[i] * w.j;
   return rho_i > 0 && rho_j > 0 ? std::log(rho_j / rho_i) : summed;
 }
 
@@ -162,13 +157,14 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
     if constexpr (Consistent) {
       double dl = d.log_rho[j] - log_rho_i;
-      const double r = d.scales ? std::sqrt(norm2(xi - d.pos[j])) : 0.0;
-      if (d.rho_without_self) dl = others_log_ratio(d, i, j, r, dl);
+      // The pair's kernel values, one evaluation for both their readers.
+      const PairValues w =
+          d.scales ? pair_kernel_values(d.kernel, d.scales[i], d.scales[j], std::sqrt(norm2(xi - d.pos[j]))) : PairValues{};
+      if (d.rho_without_self) dl = others_log_ratio(d, i, j, w, dl);
       const Mat<D> Cj = as_double(d.correction[j]);
-      const PairTerms<Vec<D>> G =
-          d.correction_shift ? mixed_corrected_gradients(Ci, Cj, d.correction_shift[i], d.correction_shift[j],
-                                                         pair_kernel_value(d.kernel, d.scales[i], d.scales[j], r), g)
-                             : linear_corrected_gradients(Ci, Cj, g);
+      const PairTerms<Vec<D>> G = d.correction_shift ? mixed_corrected_gradients(Ci, Cj, d.correction_shift[i],
+                                                                                 d.correction_shift[j], pair_average_value(w), g)
+                                                     : linear_corrected_gradients(Ci, Cj, g);
       const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, G, dl, mi * inv_rho_i, mj * d.inv_rho[j]);
       ai += a.to_i;
       if (j < d.writable) d.acc[j] += a.to_j;

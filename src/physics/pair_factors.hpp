@@ -32,17 +32,25 @@ struct KernelScale {
   double inv_h = 0, w_norm = 0;
 };
 
+// A pair's kernel values with either particle's smoothing length.
+struct PairValues {
+  double i = 0, j = 0;
+};
+
 template <class K, int D>
 KernelScale scale_of(const KernelAt<K, D>& k) {
   return {k.inv_h, k.w_norm};
 }
 
+// The pair's two kernel values W(r, h_i) and W(r, h_j) (W(r, h) = sigma_D / h^D w(r / h)).
+template <class K>
+PairValues pair_kernel_values(const KernelScale& si, const KernelScale& sj, double r) {
+  return {si.w_norm * K::w(r * si.inv_h), sj.w_norm * K::w(r * sj.inv_h)};
+}
+
 // The pair-averaged kernel value (W(r, h_i) + W(r, h_j)) / 2, the value whose gradient
 // pair_average_factor gives (the mixed correction's W_ij, physics_params.hpp).
-template <class K>
-double pair_average_value(const KernelScale& si, const KernelScale& sj, double r) {
-  return 0.5 * (si.w_norm * K::w(r * si.inv_h) + sj.w_norm * K::w(r * sj.inv_h));
-}
+inline double pair_average_value(const PairValues& w) { return 0.5 * (w.i + w.j); }
 
 // The kernel-gradient factor of a pair with variable h: (dW_i/dr + dW_j/dr) / (2 r), one division;
 // w'(0) = 0, so coincident particles get 0 (divided by 2 instead of 0: no branch, so that the loops

@@ -240,7 +240,8 @@ struct Fields {
 
 // The pair (0, j)'s kernel value as the list bodies form it.
 double pair_w(const Fields& f, std::uint32_t j) {
-  return pair_kernel_value(KernelType::Cubic, f.scales[kOwner], f.scales[j], std::sqrt(norm2(kParticles[kOwner].x - kParticles[j].x)));
+  return pair_average_value(
+      pair_kernel_values(KernelType::Cubic, f.scales[kOwner], f.scales[j], std::sqrt(norm2(kParticles[kOwner].x - kParticles[j].x))));
 }
 
 Fields fields() {

@@ -394,10 +394,11 @@ TEST(ViscousForce, PairDensityLeavesOutThePairsOwnTerms) {
   // ln((200 - 2 x 10.436) / (500 - 3 x 32.684)) = ln(179.13 / 401.95) = -0.8082.
   const double expected = std::log((200.0 - 2.0 * W(r, 0.2)) / (500.0 - 3.0 * W(r, 0.1)));
   EXPECT_NEAR(expected, -0.8082, 5e-4);
-  EXPECT_NEAR(others_log_ratio(d, 0, 1, r, 99.0), expected, 1e-13);
-  EXPECT_NEAR(others_log_ratio(d, 1, 0, r, 99.0), -expected, 1e-13);  // odd in the pair
+  const PairValues w = pair_kernel_values(KernelType::Cubic, scales[0], scales[1], r);
+  EXPECT_NEAR(others_log_ratio(d, 0, 1, w, 99.0), expected, 1e-13);
+  EXPECT_NEAR(others_log_ratio(d, 1, 0, PairValues{w.j, w.i}, 99.0), -expected, 1e-13);  // odd in the pair
   // Nothing left of a density (no other neighbour): the summed densities' ratio.
   without_self = {50.0, 200.0};
   d.rho_without_self = without_self.data();
-  EXPECT_EQ(others_log_ratio(d, 0, 1, r, 99.0), 99.0);
+  EXPECT_EQ(others_log_ratio(d, 0, 1, w, 99.0), 99.0);
 }
