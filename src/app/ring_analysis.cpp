@@ -107,12 +107,20 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   for (const RingBin& b : c.bins) bins_mass += b.sigma_ana_annulus * annulus_area(b);
   const double n_total = static_cast<double>(p.size());
   double floor_num = 0;
-  if (bins_mass > 0 && n_total > 0)
-    for (const RingBin& b : c.bins) {
-      const double area = annulus_area(b);
-      const double share = b.sigma_ana_annulus * area / bins_mass;
-      floor_num += std::sqrt(2.0 * n_total * share * (1.0 - share) / std::numbers::pi) * (bins_mass / n_total) / area;
-    }
+  for (const RingBin& b : c.bins) {
+    const double area = annulus_area(b);
+    const double share = bins_mass > 0 ? b.sigma_ana_annulus * area / bins_mass : 0.0;
+    const double noise = bins_mass > 0 && n_total > 0
+                             ? std::sqrt(2.0 * n_total * share * (1.0 - share) / std::numbers::pi) * (bins_mass / n_total) / area
+                             : 0.0;
+    floor_num += noise;
+    const double mid = 0.5 * (b.r_lo + b.r_hi) / r0;
+    for (RegionL1& region : c.regions)
+      if (mid >= region.lo && mid < region.hi && mden > 0) {
+        region.l1 += std::abs(b.sigma_mass - b.sigma_ana_annulus) / mden;
+        region.floor += noise / mden;
+      }
+  }
   c.sampling_floor = mden > 0 ? floor_num / mden : 0.0;
   // Best-fit viscous time: a scan of 0.5-1.5 tau in steps of 0.005 tau, then of the step around the
   // best in steps of 0.0005 tau (the L1 is piecewise smooth in tau; the grids make the result exact
@@ -176,6 +184,14 @@ std::string ring_comparison_table(const RingComparison& c) {
                   (c.mass + c.accreted_mass) / c.initial_mass - 1.0);
     os << line;
   }
+  os << "mass profile by region: annulus-mass L1 against its share of the floor:";
+  for (const RegionL1& region : c.regions) {
+    std::snprintf(line, sizeof line, "%s %s (%s) %.4f = %.1fx", &region == &c.regions.front() ? "" : ";", region.name,
+                  region.lo == 0 ? "r < 0.5 r0" : region.hi > 1e299 ? "r > 1.5 r0" : "0.5-1.5 r0", region.l1,
+                  region.floor > 0 ? region.l1 / region.floor : 0.0);
+    os << line;
+  }
+  os << "\n";
   // One verdict: is what is left of the error the sampling noise of N random particles?
   const bool rate_ok = std::abs(rate - 1.0) <= 0.02;
   const bool noise_ok = c.sampling_floor > 0 && c.mass_sigma_l1 <= 1.5 * c.sampling_floor;
@@ -212,7 +228,12 @@ std::string ring_comparison_json(const RingComparison& c) {
      << ",\n  \"vr_l1\": " << c.vr_l1
      << ",\n  \"vr_drift_l1\": " << c.vr_drift_l1 << ",\n  \"sigma_scatter\": " << c.sigma_scatter
      << ",\n  \"core_sigma_bias\": " << c.core_sigma_bias << ",\n  \"core_sigma_noself_bias\": " << c.core_sigma_noself_bias
-     << ",\n  \"bins\": [";
+     << ",\n  \"regions\": [";
+  for (const RegionL1& region : c.regions)
+    os << (&region == &c.regions.front() ? "\n" : ",\n") << "    {\"name\": \"" << region.name << "\", \"r_lo\": " << region.lo
+       << ", \"r_hi\": " << (region.hi > 1e299 ? -1.0 : region.hi) << ", \"mass_sigma_l1\": " << region.l1
+       << ", \"sampling_floor\": " << region.floor << "}";
+  os << "\n  ],\n  \"bins\": [";
   bool first = true;
   for (const RingBin& b : c.bins) {
     os << (first ? "\n" : ",\n") << "    {\"r_lo\": " << b.r_lo << ", \"r_hi\": " << b.r_hi << ", \"count\": " << b.count

@@ -25,6 +25,14 @@ struct RingBin {
   double sigma_ana_annulus = 0;  // analytic annulus mean of Sigma
 };
 
+// The annulus-mass L1 and the sampling floor from one radial region's bins (both in the units of
+// RingComparison::mass_sigma_l1, so the regions add up to it and to sampling_floor).
+struct RegionL1 {
+  const char* name;
+  double lo, hi;  // in r0
+  double l1 = 0, floor = 0;
+};
+
 struct RingComparison {
   double tau = 0;
   std::size_t particles = 0;
@@ -39,6 +47,9 @@ struct RingComparison {
   double tau_fit = 0;          // viscous time whose analytic annulus means fit the binned mass best
                                // (least mass_sigma_l1); tau_fit / tau < 1: the ring spread too slowly
   double mass_sigma_l1_at_fit = 0;  // mass_sigma_l1 against the profile at tau_fit
+  // mass_sigma_l1 and sampling_floor split over the inner wing, the core and the outer wing: where a
+  // front or a deficit lies, against where the sampling noise alone would put the error.
+  std::vector<RegionL1> regions{{"inner wing", 0.0, 0.5}, {"core", 0.5, 1.5}, {"outer wing", 1.5, 1e300}};
   double sigma_scatter = 0;    // rms of Sigma_i / Sigma_ana(r_i) - 1 over particles with Sigma_ana > 1% of peak
   double core_sigma_bias = 0;  // mean Sigma_i / Sigma_ana(r_i) - 1 over particles with 0.9 <= r / r0 <= 1.1
   double core_sigma_noself_bias = 0;  // the same for Sigma without its self term

@@ -26,6 +26,13 @@ def main():
     if not a["vr_drift_l1"] <= MAX_DRIFT_VR_L1:
         print(f"FAIL: binned drift v_r L1 {a['vr_drift_l1']:.4f} > {MAX_DRIFT_VR_L1}")
         ok = False
+    # The L1 and the floor by region (inner wing, core, outer wing) add up to the whole.
+    regions = a["regions"]
+    for key in ("mass_sigma_l1", "sampling_floor"):
+        total = sum(r[key] for r in regions)
+        if len(regions) != 3 or not abs(total - a[key]) <= 1e-9 * a[key]:
+            print(f"FAIL: {key} by region sums to {total}, not {a[key]}")
+            ok = False
     if abs(a["mass"] + a["accreted_mass"] - 1e-10 / 1.0) > 1e-22:
         print(f"FAIL: mass not conserved: {a['mass']} + {a['accreted_mass']}")
         ok = False
