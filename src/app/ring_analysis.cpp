@@ -186,9 +186,12 @@ std::string ring_comparison_table(const RingComparison& c) {
   }
   os << "mass profile by region: annulus-mass L1 against its share of the floor:";
   for (const RegionL1& region : c.regions) {
-    std::snprintf(line, sizeof line, "%s %s (%s) %.4f = %.1fx", &region == &c.regions.front() ? "" : ";", region.name,
-                  region.lo == 0 ? "r < 0.5 r0" : region.hi > 1e299 ? "r > 1.5 r0" : "0.5-1.5 r0", region.l1,
-                  region.floor > 0 ? region.l1 / region.floor : 0.0);
+    char range[64];  // from the region's bounds
+    if (region.lo == 0) std::snprintf(range, sizeof range, "r < %g r0", region.hi);
+    else if (std::isinf(region.hi)) std::snprintf(range, sizeof range, "r > %g r0", region.lo);
+    else std::snprintf(range, sizeof range, "%g-%g r0", region.lo, region.hi);
+    std::snprintf(line, sizeof line, "%s %s (%s) %.4f = %.1fx", &region == &c.regions.front() ? "" : ";", region.name, range,
+                  region.l1, region.floor > 0 ? region.l1 / region.floor : 0.0);
     os << line;
   }
   os << "\n";
@@ -231,7 +234,7 @@ std::string ring_comparison_json(const RingComparison& c) {
      << ",\n  \"regions\": [";
   for (const RegionL1& region : c.regions)
     os << (&region == &c.regions.front() ? "\n" : ",\n") << "    {\"name\": \"" << region.name << "\", \"r_lo\": " << region.lo
-       << ", \"r_hi\": " << (region.hi > 1e299 ? -1.0 : region.hi) << ", \"mass_sigma_l1\": " << region.l1
+       << ", \"r_hi\": " << (std::isinf(region.hi) ? -1.0 : region.hi) << ", \"mass_sigma_l1\": " << region.l1
        << ", \"sampling_floor\": " << region.floor << "}";
   os << "\n  ],\n  \"bins\": [";
   bool first = true;

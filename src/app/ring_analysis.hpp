@@ -2,6 +2,7 @@
 // Comparison of a ring snapshot with the analytic solution (P98 sec. 5.3, Fig. 8): particle
 // surface densities averaged in radial bins (50 over 0.05 - 2.05 r0 by default), binned radial
 // velocity, per-particle scatter and L1 errors.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,8 @@ struct RingComparison {
   double mass_sigma_l1_at_fit = 0;  // mass_sigma_l1 against the profile at tau_fit
   // mass_sigma_l1 and sampling_floor split over the inner wing, the core and the outer wing: where a
   // front or a deficit lies, against where the sampling noise alone would put the error.
-  std::vector<RegionL1> regions{{"inner wing", 0.0, 0.5}, {"core", 0.5, 1.5}, {"outer wing", 1.5, 1e300}};
+  std::vector<RegionL1> regions{
+      {"inner wing", 0.0, 0.5}, {"core", 0.5, 1.5}, {"outer wing", 1.5, std::numeric_limits<double>::infinity()}};
   double sigma_scatter = 0;    // rms of Sigma_i / Sigma_ana(r_i) - 1 over particles with Sigma_ana > 1% of peak
   double core_sigma_bias = 0;  // mean Sigma_i / Sigma_ana(r_i) - 1 over particles with 0.9 <= r / r0 <= 1.1
   double core_sigma_noself_bias = 0;  // the same for Sigma without its self term
