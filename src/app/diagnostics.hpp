@@ -1,7 +1,15 @@
 #pragma once
 // Global diagnostics of the particle set (docs/physics.md sec. 4 "Diagnostics"): mass, energies and
 // the angular momentum L_z, summed with the deterministic reduction of the parallel layer.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+
 #include "core/particles.hpp"
+#include "parallel/loops.hpp"
+#include "physics/accretion.hpp"  // angular_momentum_z
 
 namespace sphdisk {
 
@@ -17,11 +25,34 @@ struct GlobalSums {
 };
 
 template <int D>
-double angular_momentum_z(const Vec<D>& x, const Vec<D>& v) {
-  return x[0] * v[1] - x[1] * v[0];
-}
-
-template <int D>
 GlobalSums global_sums(const Particles<D>& p, bool energy);
+
+// A non-finite value, naming particle, field and step ("" when all are finite): of the fields, the one
+// most likely the cause (position, then velocity, acceleration, internal energy: a bad position
+// spreads to its neighbours' rates within a step), and of the particles with it the lowest ID, so
+// that the line does not depend on the particles' order.
+template <int D>
+std::string find_non_finite(const Particles<D>& p, long long step) {
+  static constexpr const char* kFields[] = {"position", "velocity", "acceleration", "internal energy"};
+  constexpr int kFinite = 4;
+  const auto worst_field = [&](std::size_t i) {
+    int f = kFinite;
+    if (!p.u.empty() && !std::isfinite(p.u[i])) f = 3;  // (no internal energy without an energy equation)
+    for (int k = 0; k < D; ++k) {
+      if (!std::isfinite(p.acc[i][k])) f = std::min(f, 2);
+      if (!std::isfinite(p.vel[i][k])) f = std::min(f, 1);
+      if (!std::isfinite(p.pos[i][k])) f = 0;
+    }
+    return f;
+  };
+  using Found = std::pair<int, std::uint64_t>;  // (field, particle ID): the least is reported
+  const Found none{kFinite, 0};
+  const Found bad = par::reduce(
+      p.size(), none, [&](std::size_t i) { return Found{worst_field(i), static_cast<std::uint64_t>(p.id[i])}; },
+      [](const Found& a, const Found& b) { return std::min(a, b); });
+  if (bad.first == kFinite) return "";
+  return "non-finite " + std::string(kFields[bad.first]) + " of particle ID " + std::to_string(bad.second) + " at step " +
+         std::to_string(step);
+}
 
 }  // namespace sphdisk

@@ -73,4 +73,12 @@ std::string header(const std::string& what, const std::string& command_line, int
          vector_isa_name(vector_isa()) + "\n";
 }
 
+std::string format_duration(double s) {
+  char buf[32];
+  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(s) % 60);
+  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s / 3600), int(s / 60) % 60);
+  return buf;
+}
+
 }  // namespace sphdisk::run_log

@@ -25,4 +25,7 @@ void print(std::FILE* terminal, const char* format, ...) __attribute__((format(p
 // version, build options, host, ranks, threads and vector loops.
 std::string header(const std::string& what, const std::string& command_line, int ranks, int threads);
 
+// A duration for a progress line's ETA: "42s", "3m07s", "2h05m".
+std::string format_duration(double seconds);
+
 }  // namespace sphdisk::run_log

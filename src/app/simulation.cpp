@@ -17,9 +17,12 @@
 #include <sstream>
 
 #include "app/diagnostics.hpp"
+#include "app/run_directory.hpp"
+#include "app/run_setup.hpp"
 #include "app/rate_evaluator.hpp"
 #include "app/run_identity.hpp"
 #include "app/run_log.hpp"
+#include "app/run_records.hpp"
 #include "app/smoothing_calibration.hpp"
 #include "core/error.hpp"
 #include "core/large_allocations.hpp"
@@ -35,6 +38,7 @@
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
+#include "physics/accretion.hpp"
 #include "problems/ring_setup.hpp"
 
 namespace sphdisk {
@@ -48,13 +52,10 @@ constexpr int kDim = 2;  // the ring is 2D (config check rejects others for now)
 // Steps between cache-friendly reorderings by cell: orbiting particles drift away from their
 // neighbours' places in memory. The schemes that substep gravity take steps 3-20x longer (a block
 // cycle is the largest step), so they reorder every step.
-long long reorder_interval(const Config& cfg) { return cfg.scheme == "respa" || cfg.scheme == "block" ? 1 : 16; }
-const char* const kCheckpointName = "checkpoint.hdf5";
-const char* const kDiagnosticsName = "diagnostics.csv";
-const char* const kDiagnosticsHeader =
-    "step,time,tau,dt,particles,mass,accreted_mass,kinetic_energy,internal_energy,angular_momentum,"
-    "accreted_angular_momentum,wall_time";
-
+long long reorder_interval(const Config& cfg) {
+  const Scheme s = scheme_from_name(cfg.scheme);
+  return s == Scheme::Respa || s == Scheme::Block ? 1 : 16;
+}
 // Counts SIGTERM / SIGINT: after the first the run checkpoints and stops when the current step
 // ends, or inside a long step (a block cycle) at its next substep; a second one inside such a step
 // before then abandons it unsaved (Runner::between_substeps).
@@ -66,211 +67,6 @@ extern "C" void on_stop_signal(int) { g_stop_signals = g_stop_signals + 1; }
 struct StepLeft {
   bool saved;
 };
-
-std::string snapshot_name(const std::string& dir, std::size_t k) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "snapshot_%03zu.hdf5", k);
-  return (fs::path(dir) / buf).string();
-}
-
-// Refuses to replace results of an earlier run unless asked; checks the directory is writable.
-void prepare_output_dir(const std::string& dir, bool overwrite) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw UserError("cannot create output directory '" + dir + "': " + ec.message() + "; choose another with --output");
-  if (!overwrite) {
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const std::string name = e.path().filename().string();
-      if (name.rfind("snapshot_", 0) == 0 || name == kDiagnosticsName || name == kCheckpointName)
-        throw UserError("output directory '" + dir + "' already holds results (" + name +
-                        "); use --output for a new directory, --overwrite to replace them, or `sphdisk resume " + dir +
-                        "` to continue");
-    }
-  }
-  const std::string probe = (fs::path(dir) / ".sphdisk_write_test").string();
-  std::ofstream f(probe);
-  if (!f || !(f << "x") || (f.close(), !f)) throw UserError("output directory '" + dir + "' is not writable; choose another with --output");
-  fs::remove(probe, ec);
-}
-
-// What a run writes into its directory (and `sphdisk report` beside it): with --overwrite all of it
-// goes before the new run writes anything, so two runs' outputs never mix (a stale snapshot_004 of a
-// longer earlier run would otherwise sit beside the new run's three). Files of other names stay.
-bool written_by_a_run(const std::string& name) {
-  const auto starts = [&](const char* prefix) { return name.rfind(prefix, 0) == 0; };
-  const auto ends = [&](const char* suffix) {
-    const std::string s(suffix);
-    return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
-  };
-  return (starts("snapshot_") && ends(".hdf5")) || (starts("debug_step_") && ends(".hdf5")) || starts(kCheckpointName) ||
-         name == kDiagnosticsName || name == "config.toml" || name == "timers.json" || name == "ranks.json" ||
-         name == run_log::kName || name == "report";
-}
-
-void remove_earlier_run(const std::string& dir) {
-  std::vector<fs::path> old;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (written_by_a_run(e.path().filename().string())) old.push_back(e.path());
-  for (const auto& path : old) {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-    if (ec)
-      throw UserError("--overwrite: cannot remove '" + path.string() + "' of the earlier run (" + ec.message() +
-                      "); remove it by hand or choose another directory with --output");
-  }
-}
-
-void write_text_file(const std::string& dir, const std::string& name, const std::string& text) {
-  write_text_atomically((fs::path(dir) / name).string(), text);
-}
-
-std::string format_duration(double s) {
-  char buf[32];
-  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s / 3600), int(s / 60) % 60);
-  return buf;
-}
-
-// A non-finite value, naming particle, field and step ("" when all are finite): of the fields, the one
-// most likely the cause (position, then velocity, acceleration, internal energy: a bad position
-// spreads to its neighbours' rates within a step), and of the particles with it the lowest ID, so
-// that the line does not depend on the particles' order.
-template <int D>
-std::string find_non_finite(const Particles<D>& p, long long step) {
-  static constexpr const char* kFields[] = {"position", "velocity", "acceleration", "internal energy"};
-  constexpr int kFinite = 4;
-  const auto worst_field = [&](std::size_t i) {
-    int f = kFinite;
-    if (!p.u.empty() && !std::isfinite(p.u[i])) f = 3;  // (no internal energy without an energy equation)
-    for (int k = 0; k < D; ++k) {
-      if (!std::isfinite(p.acc[i][k])) f = std::min(f, 2);
-      if (!std::isfinite(p.vel[i][k])) f = std::min(f, 1);
-      if (!std::isfinite(p.pos[i][k])) f = 0;
-    }
-    return f;
-  };
-  using Found = std::pair<int, std::uint64_t>;  // (field, particle ID): the least is reported
-  const Found none{kFinite, 0};
-  const Found bad = par::reduce(
-      p.size(), none, [&](std::size_t i) { return Found{worst_field(i), static_cast<std::uint64_t>(p.id[i])}; },
-      [](const Found& a, const Found& b) { return std::min(a, b); });
-  if (bad.first == kFinite) return "";
-  return "non-finite " + std::string(kFields[bad.first]) + " of particle ID " + std::to_string(bad.second) + " at step " +
-         std::to_string(step);
-}
-
-struct AccretedParticle {
-  std::uint64_t id;
-  double mass, lz;
-};
-
-// Removes particles inside the accretion radius and returns what their mass and L_z give to the
-// central object.
-template <int D>
-std::vector<AccretedParticle> accrete(Particles<D>& p, double r_acc) {
-  std::vector<AccretedParticle> accreted;
-  if (r_acc <= 0) return accreted;
-  const double r2 = r_acc * r_acc;
-  std::vector<std::uint32_t> keep;
-  keep.reserve(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (norm2(p.pos[i]) < r2) {
-      accreted.push_back({p.id[i], p.mass[i], p.mass[i] * angular_momentum_z(p.pos[i], p.vel[i])});
-    } else {
-      keep.push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-  if (keep.size() != p.size()) p.gather(keep);
-  return accreted;
-}
-
-// Everything the configuration implies in code units.
-struct Setup {
-  UnitSystem units;
-  PhysicsParams phys;
-  RingSetup ring;
-  double tau_rate;  // d tau / dt (r0 = 1); nu = 0 (pure Kepler test): tau then stands for the time
-  double tau_of_time(double t) const { return tau_rate > 0 ? t * tau_rate : t; }
-  double time_of_tau(double tau) const { return tau_rate > 0 ? tau / tau_rate : tau; }
-};
-
-// The output times in code units: output.times as given, output.orbits times the period 2 pi R^1.5
-// at R = output.orbit_radius (G M = r0 = 1), or output.tau through the viscous time.
-std::vector<double> output_times(const Config& cfg, const Setup& setup) {
-  if (!cfg.output_times.empty()) return cfg.output_times;
-  std::vector<double> t;
-  const double period = 2.0 * std::numbers::pi * std::pow(cfg.output_orbit_radius, 1.5);
-  for (double orbits : cfg.output_orbits) t.push_back(orbits * period);
-  if (t.empty())
-    for (double tau : cfg.output_tau) t.push_back(setup.time_of_tau(tau));
-  return t;
-}
-
-Setup make_setup(const Config& cfg) {
-  Setup s;
-  // Code units: length r0, mass M, G = 1 (core/units.hpp).
-  s.units = UnitSystem::from_solar(cfg.ring_radius, cfg.central_mass);
-  const double rsun2_per_s = cgs::solar_radius * cgs::solar_radius * s.units.time_s / (s.units.length_cm * s.units.length_cm);
-  s.phys.gm = 1.0;
-  s.phys.nu = cfg.viscosity * rsun2_per_s;
-  s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
-  s.phys.eos = cfg.eos == "isothermal" ? EquationOfState::Isothermal : EquationOfState::None;
-  s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
-  s.phys.evolve_energy = cfg.evolve_energy;
-  s.phys.gradient_correction = cfg.gradient_correction == "mixed"    ? GradientCorrection::Mixed
-                               : cfg.gradient_correction == "linear" ? GradientCorrection::Linear
-                                                                     : GradientCorrection::None;
-  s.phys.force_correction = cfg.force_correction;
-  s.phys.viscous_force = cfg.viscous_force == "conservative" ? ViscousForce::Conservative : ViscousForce::Consistent;
-  s.phys.pair_density = cfg.pair_density == "others" ? PairDensity::Others : PairDensity::Summation;
-  s.phys.kernel = kernel_from_name(cfg.kernel);
-  s.phys.accretion_radius = cfg.accretion_radius;
-  s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
-  s.ring.tau_start = cfg.tau_start;
-  s.ring.particles = static_cast<std::size_t>(cfg.particles);
-  s.ring.seed = static_cast<std::uint64_t>(cfg.seed);
-  s.ring.stratified = cfg.placement == "stratified";
-  s.ring.accretion_radius = cfg.accretion_radius;
-  s.tau_rate = 12.0 * s.phys.nu;
-  return s;
-}
-
-// Refuse up front what cannot fit: ~200 bytes of fields and scratch per particle plus the
-// neighbour lists and pair factors. A rough estimate, close to the measured peaks with stored lists
-// at 60 neighbours (docs/performance.md, "Memory per particle").
-void check_memory(std::size_t particles, double neighbours, bool adaptive) {
-  // Fields ~224 B, lists + pair factors 12 B per neighbour, adaptive smoothing's candidate lists
-  // 4 B per candidate (1.1^D more than neighbours).
-  const double bytes_estimate = static_cast<double>(particles) * (224.0 + (adaptive ? 17.0 : 12.0) * neighbours);
-  const double bytes_available = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-  if (bytes_estimate > 0.9 * bytes_available) {
-    char msg[256];
-    std::snprintf(msg, sizeof msg, "%zu particles need about %.1f GiB but this machine has %.1f GiB; use fewer particles",
-                  particles, bytes_estimate / (1ull << 30), bytes_available / (1ull << 30));
-    throw UserError(msg);
-  }
-}
-
-// Keeps the rows of diagnostics.csv up to `step` (a resumed run continues after its checkpoint).
-void truncate_diagnostics(const std::string& dir, long long step) {
-  const std::string path = (fs::path(dir) / kDiagnosticsName).string();
-  std::ifstream in(path);
-  std::ostringstream kept;
-  std::string line;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (!header) {
-      const long long row_step = std::atoll(line.c_str());
-      if (row_step > step || line.find(',') == std::string::npos) break;
-    }
-    kept << line << '\n';
-    header = false;
-  }
-  if (header) kept << kDiagnosticsHeader << '\n';
-  write_text_file(dir, kDiagnosticsName, kept.str());
-}
 
 // One run from a state (fresh or checkpointed) to the last output time.
 class Runner {
@@ -453,45 +249,9 @@ class Runner {
          << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
   }
 
-  // Work and traffic counters of this rank, at one moment (the steps' share is a difference).
-  struct Counters {
-    long long step = 0;
-    std::size_t evaluations = 0, updates = 0, pairs = 0, h_solves = 0, h_sums = 0;
-    DomainTraffic traffic;
-  };
-  Counters counters_now() const {
+  RunCounters counters_now() const {
     return {s_.step, rates_.evaluations(), rates_.particle_updates(), rates_.pair_interactions(),
             rates_.smoothing_length_solves(), rates_.smoothing_length_sums(), domain_.traffic()};
-  }
-
-  static std::string traffic_json(const Traffic& t) {
-    std::ostringstream os;
-    os << "{\"exchanges\": " << t.exchanges << ", \"messages\": " << t.messages << ", \"bytes\": " << t.bytes
-       << ", \"reductions\": " << t.reductions << ", \"reduction_bytes\": " << t.reduction_bytes << '}';
-    return os.str();
-  }
-  static std::string traffic_json(const DomainTraffic& t) {
-    return "{\"migration\": " + traffic_json(t.migration) + ", \"halo_build\": " + traffic_json(t.halo_build) +
-           ", \"halo_refresh\": " + traffic_json(t.halo_refresh) + ", \"reductions\": " + traffic_json(t.reductions) +
-           ", \"total\": " + traffic_json(t.total()) + '}';
-  }
-  static DomainTraffic difference(const DomainTraffic& a, const DomainTraffic& b) {
-    return {a.migration - b.migration, a.halo_build - b.halo_build, a.halo_refresh - b.halo_refresh,
-            a.reductions - b.reductions};
-  }
-
-  // The counters of the steps of the last advance() only: no set-up (first distribution, start-up
-  // evaluation), no snapshot, no checkpoint after the last step (docs/performance.md, "Scaling model").
-  std::string steps_json() const {
-    const Counters& a = steps_begin_;
-    const Counters& b = steps_end_;
-    std::ostringstream os;
-    os << "{\"steps\": " << b.step - a.step << ", \"rate_evaluations\": " << b.evaluations - a.evaluations
-       << ", \"particle_updates\": " << b.updates - a.updates << ", \"pair_interactions\": " << b.pairs - a.pairs
-       << ", \"smoothing_length_solves\": " << b.h_solves - a.h_solves
-       << ", \"smoothing_length_sums\": " << b.h_sums - a.h_sums
-       << ", \"traffic\": " << traffic_json(difference(b.traffic, a.traffic)) << '}';
-    return os.str();
   }
 
   // Per rank: owned particles, ghosts, peak memory and phase timers (load imbalance and
@@ -512,7 +272,7 @@ class Runner {
        << ", \"involved_evaluations\": " << rates_.involved_evaluations()
        << ", \"involved_widenings\": " << rates_.involved_widenings()
        << ", \"traffic\": " << traffic_json(domain_.traffic())
-       << ", \"steps\": " << steps_json()
+       << ", \"steps\": " << steps_json(steps_begin_, steps_end_)
        << ", \"memory_bytes\": {\"particles\": " << p_.bytes();
     for (const auto& [part, bytes] : rates_.memory()) os << ", \"" << part << "\": " << bytes;
     os << ", \"integrator\": " << integrator_->bytes();
@@ -544,7 +304,7 @@ class Runner {
     run_log::print(terminal(), "step %lld  tau %.5f  %5.1f%%  dt %.3e  N %zu  %.3g updates/s  ETA %s%s\n", step,
                    setup_.tau_of_time(time), 100 * frac, dt, advance_.particles,
                    static_cast<double>(advance_.updates + in_step) / wall(),
-                   format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
+                   run_log::format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
   }
 
   // Between the substeps of a long step (a block cycle; at 10M particles one can take hours):
@@ -595,7 +355,7 @@ class Runner {
   long long last_checkpoint_step_ = -1;  // -1: none yet
   long long last_output_step_ = -1;      // the step of the last snapshot written (-1: none yet)
   long long substeps_ = 0;               // substeps of this process's run so far (between_substeps)
-  Counters steps_begin_, steps_end_;     // at the first step of advance() and after its last
+  RunCounters steps_begin_, steps_end_;     // at the first step of advance() and after its last
   struct {
     double t_begin = 0;         // simulated time at the start of advance()
     std::size_t updates = 0;    // particles given new rates since then (all ranks)
@@ -736,9 +496,7 @@ RunSummary Runner::advance() {
 
 void apply_run_options(const Config& cfg, const RunOptions& opts) {
   par::set_threads(cfg.threads);
-  limit_vector_isa(cfg.vector_isa == "baseline" ? VectorIsa::baseline
-                   : cfg.vector_isa == "avx2"   ? VectorIsa::avx2
-                                                : VectorIsa::avx512);  // auto: no cap
+  limit_vector_isa(vector_isa_limit_from_name(cfg.vector_isa));
   if (!opts.trace_file.empty()) par::trace_enable(true);
   g_stop_signals = 0;
 }
@@ -789,7 +547,7 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   apply_run_options(cfg, opts);
   const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
   const Setup setup = make_setup(cfg);
-  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, cfg.smoothing == "adaptive");
+  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, smoothing_from_name(cfg.smoothing) == Smoothing::Adaptive);
   // Runs without stored lists are those that would not fit otherwise: from the first array on,
   // large ones go back to the system when freed (stored lists keep theirs, and fresh pages would
   // cost them page faults).

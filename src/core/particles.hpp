@@ -34,6 +34,12 @@ enum FieldFlag : unsigned {
                                    // (sph.force_correction, or the consistent viscous force)
   kMixedCorrectionOnly = 1u << 8,  // read and written only where the consistent viscous force uses the
                                    // mixed correction (PhysicsParams::keeps_correction_shift)
+  // Which of a rate evaluation's ghost refreshes (domain/particle_domain.hpp, GhostStage) carries the
+  // field from its owner to the ranks that hold it as a ghost: after the smoothing-length solve,
+  // after the density pass, after the stress pass.
+  kHaloSmoothingLength = 1u << 9,
+  kHaloDensity = 1u << 10,
+  kHaloStress = 1u << 11,
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -54,12 +60,12 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(pos,   Vector, "Coordinates",        kSnapshot | kCheckpoint,               1,  0,  0)     \
   X(vel,   Vector, "Velocities",         kSnapshot | kCheckpoint,               1,  0, -1)     \
   X(u,     Scalar, "InternalEnergy",     kSnapshot | kCheckpoint | kEnergyOnly, 2,  0, -2)     \
-  X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint,               1,  0,  0)     \
-  X(rho,   Scalar, "Density",            kSnapshot | kReduced | kRateState,    -2,  1,  0)     \
-  X(volume, Scalar, "Volume",            kRateState,                            2,  0,  0)     \
-  X(stress, Tensor, "KinematicStress",   kReduced | kRateState,                 2,  0, -1)     \
-  X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly, 0, 0, 0) \
-  X(correction_shift, Vector, "MomentCorrectionShift", kRateState | kMixedCorrectionOnly, -1, 0, 0) \
+  X(h,     Scalar, "SmoothingLength",    kSnapshot | kCheckpoint | kHaloSmoothingLength, 1, 0, 0) \
+  X(rho,   Scalar, "Density",            kSnapshot | kReduced | kRateState | kHaloDensity, -2, 1, 0) \
+  X(volume, Scalar, "Volume",            kRateState | kHaloDensity,             2,  0,  0)     \
+  X(stress, Tensor, "KinematicStress",   kReduced | kRateState | kHaloStress,   2,  0, -1)     \
+  X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly | kHaloStress, 0, 0, 0) \
+  X(correction_shift, Vector, "MomentCorrectionShift", kRateState | kMixedCorrectionOnly | kHaloStress, -1, 0, 0) \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \

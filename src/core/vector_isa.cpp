@@ -1,6 +1,9 @@
 #include "core/vector_isa.hpp"
 
 #include <algorithm>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace sphdisk {
 
@@ -29,6 +32,13 @@ VectorIsa cpu_vector_isa() { return cpu_isa; }
 VectorIsa vector_isa() { return in_use; }
 
 void limit_vector_isa(VectorIsa widest) { in_use = std::min(widest, cpu_isa); }
+
+VectorIsa vector_isa_limit_from_name(std::string_view name) {
+  if (name == "baseline") return VectorIsa::baseline;
+  if (name == "avx2") return VectorIsa::avx2;
+  if (name == "auto") return VectorIsa::avx512;
+  throw UserError("unknown run.vector_isa '" + std::string(name) + "'; use auto, avx2 or baseline");
+}
 
 const char* vector_isa_name(VectorIsa isa) {
   switch (isa) {

@@ -8,6 +8,8 @@
 #define SPHDISK_X86_VECTOR_DISPATCH 1
 #endif
 
+#include <string_view>
+
 namespace sphdisk {
 
 // Ordered by width: a limit of avx2 allows avx2 and baseline.
@@ -20,6 +22,8 @@ VectorIsa vector_isa();
 // Caps the dispatched loops at `widest` (baseline: the scalar/SSE2 code), for the tests and
 // benchmarks that compare the paths; avx512 lifts the cap. Not to be called while a loop runs.
 void limit_vector_isa(VectorIsa widest);
+// run.vector_isa's names: "auto" (no cap: avx512), "avx2", "baseline".
+VectorIsa vector_isa_limit_from_name(std::string_view name);
 // "baseline", "avx2", "avx512".
 const char* vector_isa_name(VectorIsa isa);
 

@@ -340,7 +340,11 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
 }
 
 template <int D>
-void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const {
+void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, unsigned halo_flag) const {
+  FieldNames fields;
+  p.for_each_field([&](const FieldInfo& info, const auto&) {
+    if (info.flags & halo_flag) fields.push_back(info.name);
+  });
   const auto ranks = static_cast<std::size_t>(comm.size());
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
@@ -443,9 +447,9 @@ template <int D>
 void DistributedDomain<D>::refresh_ghosts(Particles<D>& p, GhostStage stage) {
   const Traffic before = sent_traffic();
   switch (stage) {
-    case GhostStage::SmoothingLength: halo_.refresh(comm_, p, {"h"}); break;
-    case GhostStage::Density: halo_.refresh(comm_, p, {"rho", "volume"}); break;
-    case GhostStage::Stress: halo_.refresh(comm_, p, {"stress", "correction", "correction_shift"}); break;
+    case GhostStage::SmoothingLength: halo_.refresh(comm_, p, kHaloSmoothingLength); break;
+    case GhostStage::Density: halo_.refresh(comm_, p, kHaloDensity); break;
+    case GhostStage::Stress: halo_.refresh(comm_, p, kHaloStress); break;
   }
   traffic_.halo_refresh += sent_traffic() - before;
 }

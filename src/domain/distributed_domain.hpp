@@ -53,8 +53,9 @@ class Halo {
   // `grid`, so some spare ghosts come along). p must hold owned particles only.
   void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
              const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach);
-  // Copies the owners' current values of `fields` into the ghosts (same ghosts as build()).
-  void refresh(const Communicator& comm, Particles<D>& p, const FieldNames& fields) const;
+  // Copies the owners' current values of the fields flagged halo_flag (kHaloSmoothingLength,
+  // kHaloDensity or kHaloStress, core/particles.hpp) into the ghosts (same ghosts as build()).
+  void refresh(const Communicator& comm, Particles<D>& p, unsigned halo_flag) const;
   // Removes the ghosts.
   void drop(Particles<D>& p) const { p.resize(owned_); }
 

@@ -12,11 +12,13 @@
 namespace sphdisk {
 
 // Points in an evaluation after which ghost particles (copies of other processes' particles,
-// stored after the owned ones) must get their owners' values before owned particles read them.
+// stored after the owned ones) must get their owners' values before owned particles read them;
+// the fields each carries are flagged in the field table (core/particles.hpp: kHaloSmoothingLength,
+// kHaloDensity, kHaloStress).
 enum class GhostStage {
-  SmoothingLength,  // h
-  Density,          // rho, volume
-  Stress,           // stress, correction
+  SmoothingLength,
+  Density,
+  Stress,
 };
 
 // A radius per particle (by index).

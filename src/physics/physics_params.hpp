@@ -1,5 +1,9 @@
 #pragma once
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
+#include <string>
+#include <string_view>
+
+#include "core/error.hpp"
 #include "physics/kernels.hpp"
 
 namespace sphdisk {
@@ -68,6 +72,29 @@ struct PhysicsParams {
            (viscous_force == ViscousForce::Consistent && pair_density == PairDensity::Others);
   }
 };
+
+// The configuration's names of the choices above (core/config.cpp lists the allowed ones).
+inline EquationOfState eos_from_name(std::string_view s) {
+  if (s == "none") return EquationOfState::None;
+  if (s == "isothermal") return EquationOfState::Isothermal;
+  throw UserError("unknown physics.eos '" + std::string(s) + "'; use none or isothermal");
+}
+inline ViscousForce viscous_force_from_name(std::string_view s) {
+  if (s == "consistent") return ViscousForce::Consistent;
+  if (s == "conservative") return ViscousForce::Conservative;
+  throw UserError("unknown sph.viscous_force '" + std::string(s) + "'; use consistent or conservative");
+}
+inline PairDensity pair_density_from_name(std::string_view s) {
+  if (s == "summation") return PairDensity::Summation;
+  if (s == "others") return PairDensity::Others;
+  throw UserError("unknown sph.pair_density '" + std::string(s) + "'; use summation or others");
+}
+inline GradientCorrection gradient_correction_from_name(std::string_view s) {
+  if (s == "linear") return GradientCorrection::Linear;
+  if (s == "mixed") return GradientCorrection::Mixed;
+  if (s == "none") return GradientCorrection::None;
+  throw UserError("unknown sph.gradient_correction '" + std::string(s) + "'; use linear, mixed or none");
+}
 
 inline double pressure(const PhysicsParams& p, double rho) {
   return p.eos == EquationOfState::Isothermal ? p.sound_speed * p.sound_speed * rho : 0.0;

@@ -4,12 +4,19 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
 #include "core/error.hpp"
 
 namespace sphdisk {
+
+Placement placement_from_name(std::string_view name) {
+  if (name == "random") return Placement::Random;
+  if (name == "stratified") return Placement::Stratified;
+  throw UserError("unknown problem.placement '" + std::string(name) + "'; use random or stratified");
+}
 
 namespace {
 

@@ -6,18 +6,24 @@
 // the same particles for the same seed, on any machine (no std:: distributions, whose algorithms
 // are implementation-defined).
 #include <cstdint>
+#include <string_view>
 
 #include "core/particles.hpp"
 #include "problems/ring_analytic.hpp"
 
 namespace sphdisk {
 
+// How the radii are drawn (problem.placement): independently from the profile ("random", P98 5.2),
+// or one in each of N equal-mass quantiles ("stratified": a low-noise variant).
+enum class Placement { Random, Stratified };
+Placement placement_from_name(std::string_view name);
+
 struct RingSetup {
   RingSolution solution;       // code units: r0 = 1, G M = 1
   double tau_start = 0.018;
   std::size_t particles = 10000;
   std::uint64_t seed = 42;
-  bool stratified = false;     // radii at (k + U)/N quantiles instead of U: low-noise variant
+  bool stratified = false;     // Placement::Stratified: radii at (k + U)/N quantiles instead of U
   double accretion_radius = 0.05;
 };
 

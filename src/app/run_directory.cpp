@@ -1,0 +1,94 @@
+#include "app/run_directory.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "app/run_log.hpp"
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+
+namespace sphdisk {
+
+namespace fs = std::filesystem;
+
+std::string snapshot_name(const std::string& dir, std::size_t k) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "snapshot_%03zu.hdf5", k);
+  return (fs::path(dir) / buf).string();
+}
+
+// Refuses to replace results of an earlier run unless asked; checks the directory is writable.
+void prepare_output_dir(const std::string& dir, bool overwrite) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw UserError("cannot create output directory '" + dir + "': " + ec.message() + "; choose another with --output");
+  if (!overwrite) {
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind("snapshot_", 0) == 0 || name == kDiagnosticsName || name == kCheckpointName)
+        throw UserError("output directory '" + dir + "' already holds results (" + name +
+                        "); use --output for a new directory, --overwrite to replace them, or `sphdisk resume " + dir +
+                        "` to continue");
+    }
+  }
+  const std::string probe = (fs::path(dir) / ".sphdisk_write_test").string();
+  std::ofstream f(probe);
+  if (!f || !(f << "x") || (f.close(), !f)) throw UserError("output directory '" + dir + "' is not writable; choose another with --output");
+  fs::remove(probe, ec);
+}
+
+// What a run writes into its directory (and `sphdisk report` beside it): with --overwrite all of it
+// goes before the new run writes anything, so two runs' outputs never mix (a stale snapshot_004 of a
+// longer earlier run would otherwise sit beside the new run's three). Files of other names stay.
+bool written_by_a_run(const std::string& name) {
+  const auto starts = [&](const char* prefix) { return name.rfind(prefix, 0) == 0; };
+  const auto ends = [&](const char* suffix) {
+    const std::string s(suffix);
+    return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+  };
+  return (starts("snapshot_") && ends(".hdf5")) || (starts("debug_step_") && ends(".hdf5")) || starts(kCheckpointName) ||
+         name == kDiagnosticsName || name == "config.toml" || name == "timers.json" || name == "ranks.json" ||
+         name == run_log::kName || name == "report";
+}
+
+void remove_earlier_run(const std::string& dir) {
+  std::vector<fs::path> old;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (written_by_a_run(e.path().filename().string())) old.push_back(e.path());
+  for (const auto& path : old) {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+    if (ec)
+      throw UserError("--overwrite: cannot remove '" + path.string() + "' of the earlier run (" + ec.message() +
+                      "); remove it by hand or choose another directory with --output");
+  }
+}
+
+void write_text_file(const std::string& dir, const std::string& name, const std::string& text) {
+  write_text_atomically((fs::path(dir) / name).string(), text);
+}
+
+void truncate_diagnostics(const std::string& dir, long long step) {
+  const std::string path = (fs::path(dir) / kDiagnosticsName).string();
+  std::ifstream in(path);
+  std::ostringstream kept;
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (!header) {
+      const long long row_step = std::atoll(line.c_str());
+      if (row_step > step || line.find(',') == std::string::npos) break;
+    }
+    kept << line << '\n';
+    header = false;
+  }
+  if (header) kept << kDiagnosticsHeader << '\n';
+  write_text_file(dir, kDiagnosticsName, kept.str());
+}
+
+}  // namespace sphdisk
