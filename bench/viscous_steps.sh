@@ -4,13 +4,14 @@
 # time, rate evaluations, particle updates per particle, spreading rate and annulus-mass L1 against
 # its sampling floor, one CSV row per run. Run on an otherwise idle machine: OpenMP threads that
 # share cores with other work make the wall times meaningless.
-# Usage: [THREADS=2] [TAU=0.09] bench/viscous_steps.sh NAME "N1 N2 ..." "explicit super_steps"
+# Usage: [THREADS=2] [TAU=0.09] [SETS="--set key=value ..."] bench/viscous_steps.sh NAME "N1 N2 ..." "explicit super_steps"
+# (SETS: further settings for every run of NAME)
 # Writes runs/NAME/viscous_steps.csv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 exe=build/release/sphdisk
 name=$1 sizes=$2 updates=${3:-"explicit super_steps"}
-threads=${THREADS:-2} tau=${TAU:-0.09}
+threads=${THREADS:-2} tau=${TAU:-0.09} sets=${SETS:-}
 out=runs/$name
 mkdir -p "$out"
 csv=$out/viscous_steps.csv
@@ -20,7 +21,7 @@ for n in $sizes; do
     dir=$out/N${n}_$update
     start=$(date +%s.%N)
     $exe run configs/ring.toml -q --overwrite -o "$dir" -t "$threads" --set problem.particles="$n" \
-      --set "output.tau=[$tau]" --set "integrator.viscous_update=\"$update\"" --set checkpoint.every_seconds=0 > /dev/null
+      --set "output.tau=[$tau]" --set "integrator.viscous_update=\"$update\"" --set checkpoint.every_seconds=0 $sets > /dev/null
     end=$(date +%s.%N)
     /usr/bin/python3 - "$dir" "$n" "$update" "$threads" "$start" "$end" >> "$csv" <<'PY'
 import json, re, subprocess, sys
