@@ -63,11 +63,14 @@ constexpr std::uint64_t kTicks = std::uint64_t{1} << kMaxBins;
 static_assert(kMaxBins < 32, "a step's start and length fit in 32 bits each (Particles::step_ticks)");
 constexpr std::size_t kDriftBlock = 1024;  // particles per work unit of the drift
 // Super-steps: the step, in h_i^2 / nu, that one forward-Euler update of the viscous rates takes
-// stably. The largest eigenvalue modulus of those rates on the ring is 0.68-0.88 nu / h_min^2 with
-// the consistent divergence and 1.95 with the conservative one at 10k-100k particles
-// (bench/viscous_spectrum.cpp; docs/design.md, "Viscosity past the h^2/nu limit"), so forward Euler
-// is stable to 1.03 h_min^2 / nu at least; this keeps a factor 2 from that.
-constexpr double kExplicitViscousLimit = 0.5;
+// stably, with a factor 2 kept from the measured limit 2 / |lambda_max|. The largest eigenvalue
+// modulus of those rates on the ring is 0.68-0.94 nu / h_min^2 with the consistent divergence (any
+// gradient correction or pair density) and 1.84-1.95 with the conservative one at 10k-100k particles
+// (bench/viscous_spectrum.cpp; docs/validation.md, "The viscous rates' spectrum"), so forward Euler
+// is stable to 2.1 and 1.03 h_min^2 / nu.
+double explicit_viscous_limit(const PhysicsParams& phys) {
+  return phys.viscous_force == ViscousForce::Consistent ? 1.0 : 0.5;
+}
 
 // The largest power-of-two number of ticks whose duration is within dt and which divides `tick`.
 std::uint64_t step_ticks(double dt, double tick_duration, std::uint64_t tick) {
@@ -85,7 +88,7 @@ class BlockLeapfrog final : public Integrator<D> {
       : params_(params), rates_(rates), super_steps_(params.viscous_update == ViscousUpdate::SuperSteps),
         step_factors_(params.factors) {
     rates_.include_gravity(false);
-    if (super_steps_) step_factors_.viscous = kExplicitViscousLimit * rkl2_reach(params.max_stages);
+    if (super_steps_) step_factors_.viscous = explicit_viscous_limit(rates_.physics()) * rkl2_reach(params.max_stages);
   }
 
   void start(Particles<D>& p) override { rates_.evaluate(p); }
@@ -301,11 +304,11 @@ class BlockLeapfrog final : public Integrator<D> {
   // the mean acceleration over the step.
   void super_step_rates(Particles<D>& p, std::size_t active, double tick, bool energy) {
     const PhysicsParams& phys = rates_.physics();
-    const double nu = std::max(phys.nu, phys.nu_bulk);
+    const double nu = std::max(phys.nu, phys.nu_bulk), limit = explicit_viscous_limit(phys);
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
     // (from the h just solved for; fixed for the update, though the later evaluations solve for h anew)
     const auto plan_at = [&](std::size_t i) {
-      return super_step_plan(nu > 0 ? tau(i) * nu / (kExplicitViscousLimit * p.h[i] * p.h[i]) : 0.0);
+      return super_step_plan(nu > 0 ? tau(i) * nu / (limit * p.h[i] * p.h[i]) : 0.0);
     };
     par::for_each(active, [&](std::size_t i) {
       p.vel[i] = p.v_kick[i];

@@ -26,7 +26,6 @@
 
 #include "core/particles.hpp"
 #include "core/snug_resize.hpp"
-#include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/kernel_terms.hpp"
 #include "physics/kernels.hpp"
