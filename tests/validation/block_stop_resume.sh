@@ -6,7 +6,8 @@
 # must end with the particles of an uninterrupted one: after SIGKILL (checkpoints at cycle ends, or
 # inside cycles every so many seconds), after one stop signal inside a cycle (a checkpoint inside
 # it), after a second one (the cycle abandoned, the last checkpoint kept), after a NaN inside a cycle
-# (none stored), and across rank counts inside a cycle (when MPIEXEC is given). Signals and the NaN
+# (none stored), with the mixed gradient correction, and across rank counts inside a cycle (when
+# MPIEXEC is given). Signals and the NaN
 # inside a cycle come from the testing aids run.inject_interrupt_at_substep and
 # run.inject_nan_at_substep, so they land at a known tick.
 # Usage: block_stop_resume.sh SPHDISK [MPIEXEC]
@@ -190,6 +191,21 @@ if [ $rc -eq 75 ] && inside_cycle "$dir" && resume "$dir" 3 && same_particles_as
   ok "explicit kicks: one signal inside a cycle, resumed on 3 threads: the uninterrupted run's particles"
 else
   bad "explicit kicks: one signal inside a cycle (rc=$rc, checkpoint of step $step): resume"
+fi
+args=("${default_args[@]}")
+
+# The mixed gradient correction keeps a per-particle field (correction_shift) that the first
+# partial evaluation of a cycle reads: one signal inside a cycle, resumed on 3 threads, gives the
+# particles of an uninterrupted run with it.
+mixed=("${args[@]}" --set 'sph.gradient_correction="mixed"')
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/mixed_ref" "${mixed[@]}" > /dev/null ||
+  bad "mixed correction: the uninterrupted run failed"
+args=("${mixed[@]}")
+stopped_run mixed --set run.inject_interrupt_at_substep=40
+if [ $rc -eq 75 ] && inside_cycle "$dir" && resume "$dir" 3 && same_particles_as_reference "$dir" "$work/mixed_ref"; then
+  ok "mixed correction: one signal inside a cycle, resumed on 3 threads: the uninterrupted run's particles"
+else
+  bad "mixed correction: one signal inside a cycle (rc=$rc, checkpoint of step $step): resume"
 fi
 args=("${default_args[@]}")
 
