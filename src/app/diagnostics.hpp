@@ -1,6 +1,7 @@
 #pragma once
 // Global diagnostics of the particle set (docs/physics.md sec. 4 "Diagnostics"): mass, energies and
-// the angular momentum L_z, summed with the deterministic reduction of the parallel layer.
+// the angular momentum L_z, summed with the deterministic reduction of the parallel layer; and the
+// search for a non-finite value that stops a run.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <numbers>
 #include <csignal>
 #include <cstdio>
 #include <cstring>

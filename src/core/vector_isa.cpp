@@ -1,9 +1,8 @@
 #include "core/vector_isa.hpp"
 
 #include <algorithm>
-#include <string>
 
-#include "core/error.hpp"
+#include "core/named_choice.hpp"
 
 namespace sphdisk {
 
@@ -34,10 +33,9 @@ VectorIsa vector_isa() { return in_use; }
 void limit_vector_isa(VectorIsa widest) { in_use = std::min(widest, cpu_isa); }
 
 VectorIsa vector_isa_limit_from_name(std::string_view name) {
-  if (name == "baseline") return VectorIsa::baseline;
-  if (name == "avx2") return VectorIsa::avx2;
-  if (name == "auto") return VectorIsa::avx512;
-  throw UserError("unknown run.vector_isa '" + std::string(name) + "'; use auto, avx2 or baseline");
+  static constexpr NamedChoice<VectorIsa> kNames[] = {
+      {"auto", VectorIsa::avx512}, {"avx2", VectorIsa::avx2}, {"baseline", VectorIsa::baseline}};
+  return choice_from_name<VectorIsa>("run.vector_isa", name, kNames);
 }
 
 const char* vector_isa_name(VectorIsa isa) {

@@ -18,7 +18,7 @@
 //     the central mass: in a disc the stress is nearly steady in the co-rotating (r, phi) frame, so
 //     its Cartesian components turn at the orbital frequency; left unturned, a stress half a step
 //     old would be off by Omega dt / 2 radians (the first-order error this removes was measured:
-//     tests/unit/test_integrators.cpp).
+//     tests/unit/integrate/test_integrators.cpp).
 // The particles are kept grouped by step length, shortest first (at the start of a cycle by a
 // stable sort, so each bin keeps the cell order of the last reorder; inside it by moving only the
 // particles outside their bin's range). A step of 2^k ticks starts at a multiple of

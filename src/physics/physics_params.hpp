@@ -1,9 +1,8 @@
 #pragma once
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
-#include <string>
 #include <string_view>
 
-#include "core/error.hpp"
+#include "core/named_choice.hpp"
 #include "physics/kernels.hpp"
 
 namespace sphdisk {
@@ -74,26 +73,26 @@ struct PhysicsParams {
 };
 
 // The configuration's names of the choices above (core/config.cpp lists the allowed ones).
+inline constexpr NamedChoice<EquationOfState> kEosNames[] = {{"none", EquationOfState::None},
+                                                             {"isothermal", EquationOfState::Isothermal}};
+inline constexpr NamedChoice<ViscousForce> kViscousForceNames[] = {{"consistent", ViscousForce::Consistent},
+                                                                   {"conservative", ViscousForce::Conservative}};
+inline constexpr NamedChoice<PairDensity> kPairDensityNames[] = {{"summation", PairDensity::Summation},
+                                                                 {"others", PairDensity::Others}};
+inline constexpr NamedChoice<GradientCorrection> kGradientCorrectionNames[] = {
+    {"linear", GradientCorrection::Linear}, {"mixed", GradientCorrection::Mixed}, {"none", GradientCorrection::None}};
+
 inline EquationOfState eos_from_name(std::string_view s) {
-  if (s == "none") return EquationOfState::None;
-  if (s == "isothermal") return EquationOfState::Isothermal;
-  throw UserError("unknown physics.eos '" + std::string(s) + "'; use none or isothermal");
+  return choice_from_name<EquationOfState>("physics.eos", s, kEosNames);
 }
 inline ViscousForce viscous_force_from_name(std::string_view s) {
-  if (s == "consistent") return ViscousForce::Consistent;
-  if (s == "conservative") return ViscousForce::Conservative;
-  throw UserError("unknown sph.viscous_force '" + std::string(s) + "'; use consistent or conservative");
+  return choice_from_name<ViscousForce>("sph.viscous_force", s, kViscousForceNames);
 }
 inline PairDensity pair_density_from_name(std::string_view s) {
-  if (s == "summation") return PairDensity::Summation;
-  if (s == "others") return PairDensity::Others;
-  throw UserError("unknown sph.pair_density '" + std::string(s) + "'; use summation or others");
+  return choice_from_name<PairDensity>("sph.pair_density", s, kPairDensityNames);
 }
 inline GradientCorrection gradient_correction_from_name(std::string_view s) {
-  if (s == "linear") return GradientCorrection::Linear;
-  if (s == "mixed") return GradientCorrection::Mixed;
-  if (s == "none") return GradientCorrection::None;
-  throw UserError("unknown sph.gradient_correction '" + std::string(s) + "'; use linear, mixed or none");
+  return choice_from_name<GradientCorrection>("sph.gradient_correction", s, kGradientCorrectionNames);
 }
 
 inline double pressure(const PhysicsParams& p, double rho) {

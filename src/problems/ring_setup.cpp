@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/named_choice.hpp"
 
 namespace sphdisk {
 
 Placement placement_from_name(std::string_view name) {
-  if (name == "random") return Placement::Random;
-  if (name == "stratified") return Placement::Stratified;
-  throw UserError("unknown problem.placement '" + std::string(name) + "'; use random or stratified");
+  static constexpr NamedChoice<Placement> kNames[] = {{"random", Placement::Random}, {"stratified", Placement::Stratified}};
+  return choice_from_name<Placement>("problem.placement", name, kNames);
 }
 
 namespace {
