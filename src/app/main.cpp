@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "app/ring_analysis.hpp"
+#include "app/run_directory.hpp"
 #include "app/run_log.hpp"
 #include "app/simulation.hpp"
 #include "app/disc_profiles.hpp"
@@ -234,11 +235,9 @@ int main(int argc, char** argv) {
       if (summary.interrupted) return report_interrupted(summary);
       // The accuracy table of the last output's snapshot (the README's main job ends with it); a run
       // stopped by run.max_steps has not reached it.
-      char last[64];
-      std::snprintf(last, sizeof last, "snapshot_%03zu.hdf5", cfg.output_count());
-      const auto path = std::filesystem::path(summary.output_dir) / last;
+      const std::string path = sphdisk::snapshot_name(summary.output_dir, cfg.output_count());
       if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty()))
-        return cmd_analyze(path.string(), "", 50);
+        return cmd_analyze(path, "", 50);
       return 0;
     }
     if (*resume) {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "app/run_directory.hpp"
 #include "app/run_log.hpp"
 #include "app/simulation.hpp"
 #include "core/config.hpp"
@@ -111,7 +112,7 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std:
     fs::create_directories(study.output, ec);
     if (ec) throw UserError("cannot create sweep output directory '" + study.output + "': " + ec.message());
     for (const SweepRun& r : study.runs)
-      if (!overwrite && fs::exists(fs::path(study.output) / r.name / "diagnostics.csv"))
+      if (!overwrite && fs::exists(fs::path(study.output) / r.name / kDiagnosticsName))
         throw UserError("sweep output '" + (fs::path(study.output) / r.name).string() +
                         "' already holds results; use another output, or --overwrite to replace them");
   });
