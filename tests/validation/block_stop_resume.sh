@@ -194,9 +194,8 @@ else
 fi
 args=("${default_args[@]}")
 
-# The mixed gradient correction keeps a per-particle field (correction_shift) that the first
-# partial evaluation of a cycle reads: one signal inside a cycle, resumed on 3 threads, gives the
-# particles of an uninterrupted run with it.
+# With the mixed gradient correction (its per-particle shift is checkpointed with the rate state):
+# one signal inside a cycle, resumed on 3 threads, gives the particles of an uninterrupted run.
 mixed=("${args[@]}" --set 'sph.gradient_correction="mixed"')
 OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/mixed_ref" "${mixed[@]}" > /dev/null ||
   bad "mixed correction: the uninterrupted run failed"
