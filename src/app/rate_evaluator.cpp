@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/named_choice.hpp"
 #include "core/snug_resize.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/involved_particles.hpp"
@@ -74,15 +75,13 @@ std::size_t total_of(const std::vector<std::uint32_t>& counts) {
 }  // namespace
 
 Smoothing smoothing_from_name(std::string_view name) {
-  if (name == "constant") return Smoothing::Constant;
-  if (name == "adaptive") return Smoothing::Adaptive;
-  throw UserError("unknown smoothing '" + std::string(name) + "'; use constant or adaptive");
+  static constexpr NamedChoice<Smoothing> kNames[] = {{"adaptive", Smoothing::Adaptive}, {"constant", Smoothing::Constant}};
+  return choice_from_name<Smoothing>("sph.smoothing", name, kNames);
 }
 
 PairStorage pair_storage_from_name(std::string_view name) {
-  if (name == "stored") return PairStorage::Stored;
-  if (name == "rescan") return PairStorage::Rescan;
-  throw UserError("unknown sph.pair_lists '" + std::string(name) + "'; use stored or rescan");
+  static constexpr NamedChoice<PairStorage> kNames[] = {{"rescan", PairStorage::Rescan}, {"stored", PairStorage::Stored}};
+  return choice_from_name<PairStorage>("sph.pair_lists", name, kNames);
 }
 
 template <int D>

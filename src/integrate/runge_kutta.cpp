@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/named_choice.hpp"
 #include "integrate/integrator.hpp"
 
 namespace sphdisk {
@@ -185,18 +186,16 @@ template <int D>
 std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& params, RateSource<D>& rates);
 
 Scheme scheme_from_name(const std::string& name) {
-  if (name == "leapfrog") return Scheme::Leapfrog;
-  if (name == "rk23") return Scheme::RK23;
-  if (name == "rk45") return Scheme::RK45;
-  if (name == "respa") return Scheme::Respa;
-  if (name == "block") return Scheme::Block;
-  throw UserError("unknown integrator scheme '" + name + "'; use leapfrog, respa, block, rk23 or rk45");
+  static constexpr NamedChoice<Scheme> kNames[] = {{"block", Scheme::Block}, {"leapfrog", Scheme::Leapfrog},
+                                                   {"respa", Scheme::Respa}, {"rk23", Scheme::RK23},
+                                                   {"rk45", Scheme::RK45}};
+  return choice_from_name<Scheme>("integrator.scheme", name, kNames);
 }
 
 ViscousUpdate viscous_update_from_name(const std::string& name) {
-  if (name == "explicit") return ViscousUpdate::Explicit;
-  if (name == "super_steps") return ViscousUpdate::SuperSteps;
-  throw UserError("unknown integrator.viscous_update '" + name + "'; use explicit or super_steps");
+  static constexpr NamedChoice<ViscousUpdate> kNames[] = {{"explicit", ViscousUpdate::Explicit},
+                                                          {"super_steps", ViscousUpdate::SuperSteps}};
+  return choice_from_name<ViscousUpdate>("integrator.viscous_update", name, kNames);
 }
 
 template <int D>

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "core/error.hpp"
+#include "core/named_choice.hpp"
 
 namespace sphdisk {
 
@@ -109,10 +110,10 @@ struct KernelAt {
 enum class KernelType { Cubic, WendlandC2, WendlandC4 };
 
 inline KernelType kernel_from_name(std::string_view s) {
-  if (s == CubicSpline::name) return KernelType::Cubic;
-  if (s == WendlandC2::name) return KernelType::WendlandC2;
-  if (s == WendlandC4::name) return KernelType::WendlandC4;
-  throw UserError("unknown kernel '" + std::string(s) + "'; use cubic, wendland_c2 or wendland_c4");
+  static constexpr NamedChoice<KernelType> kNames[] = {{CubicSpline::name, KernelType::Cubic},
+                                                       {WendlandC2::name, KernelType::WendlandC2},
+                                                       {WendlandC4::name, KernelType::WendlandC4}};
+  return choice_from_name<KernelType>("sph.kernel", s, kNames);
 }
 
 // Calls f(K{}) with the kernel type selected at run time, so inner loops are compiled per kernel.
