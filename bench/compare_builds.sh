@@ -6,7 +6,7 @@
 # Prints one line per run (build, user CPU seconds, wall seconds) and per round whether the two
 # runs' diagnostics (every column but the wall time) are equal.
 # Usage: [PARTICLES=100000] [STEPS=20] [THREADS=1] [ROUNDS=4] bench/compare_builds.sh COMMIT [KEY=VALUE ...]
-#   KEY=VALUE: configuration overrides for both runs (--set), e.g. sph.list_skin=0.2
+#   KEY=VALUE: configuration overrides for both runs (--set), e.g. sph.smoothing=constant
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ref=$(git rev-parse --short "$1")

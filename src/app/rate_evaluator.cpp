@@ -59,13 +59,13 @@ std::array<double, N> quantiles(const std::vector<double>& v, const std::array<d
 
 // One process, adaptive h: the cell size (from the median h: the denser particles scan few cells
 // and the rest reach over more; any cell size gives the same lists) and the support the tiles span
-// (all but the widest 1%), from every particle's h. skin: the gather lists' radius / support.
+// (all but the widest 1%), from every particle's h.
 struct CellsAndTiles {
   double cell_size, widest_support;
 };
-CellsAndTiles cells_and_tiles(const std::vector<double>& h, double skin) {
+CellsAndTiles cells_and_tiles(const std::vector<double>& h) {
   const auto [median, wide] = quantiles<2>(h, {0.5, kTileQuantile});
-  return {kSkin * median, 2.0 * skin * wide};
+  return {kSkin * median, 2.0 * wide};
 }
 
 std::size_t total_of(const std::vector<std::uint32_t>& counts) {
@@ -107,7 +107,6 @@ template <int D>
 template <class K>
 bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   const std::size_t owned = p.size();
-  const bool reusable = this->reusable(active, owned);
   // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
   par::for_each(active, [&p](std::size_t i) {
     const double h = p.h[i];
@@ -115,14 +114,10 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
   });
   smoothing_length_solves_ += active;
-  if (reusable && reuse_.same_particles(p.id) && reuse_adaptive_lists<K>(p)) return true;
-  const double skin = reusable ? 1.0 + list_skin_ : 1.0;  // gather-list radius / support
-  if (reusable) kept_.resize(owned);
-  // One process, every particle active, lists not kept for reuse (the common case): the gather
-  // lists are made in the pair loops' tile order, and the half lists are left inside them, where
-  // the loops read them (pair_lists.hpp). Else list i is particle i's, as appending (inactive
-  // particles) and reuse need.
-  const bool tile_ordered = !domain_ && active == owned && !reusable && storage_ == PairStorage::Stored && !whole_.set;
+  // One process, every particle active (the common case): the gather lists are made in the pair
+  // loops' tile order, and the half lists are left inside them, where the loops read them
+  // (pair_lists.hpp). Else list i is particle i's, as appending (inactive particles) needs.
+  const bool tile_ordered = !domain_ && active == owned && storage_ == PairStorage::Stored && !whole_.set;
   double cell_size;
   // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
   // reach over more cells; any cell size gives the same lists.
@@ -141,7 +136,7 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     cell_size = whole_.lattice.cell_size;
     widest_support_ = whole_.widest_support;
   } else {
-    const CellsAndTiles c = cells_and_tiles(p.h, skin);
+    const CellsAndTiles c = cells_and_tiles(p.h);
     cell_size = c.cell_size;
     widest_support_ = c.widest_support;
   }
@@ -168,7 +163,7 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
     for (int k = 0; k < D; ++k) extent += std::pow(lattice.cell_size * lattice.dims[static_cast<std::size_t>(k)], 2);
     const double widest = 4.0 * std::sqrt(extent);
     search_radius_.resize(active);
-    for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * std::max(kSkin, skin) * p.h[i];
+    for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
     const double uniform_mass = whole_.set ? whole_.uniform_mass : uniform_mass_of(p);  // ghosts included
     solve_sums_.assign(active, 0);
@@ -178,7 +173,7 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       solve_sums_[i] += static_cast<std::uint32_t>(r.sums);  // (a wider search solves i again)
       if (r.beyond_candidates && searched < widest) {
         p.h[i] = r.h;  // the start value of the wider search
-        const double wider = 2.0 * std::max(kSkin, skin) * r.h;
+        const double wider = 2.0 * kSkin * r.h;
         if (domain_ && wider > need_[i]) {  // beyond the ghosts: stop here, search again with more
           halo_short_[i] = wider;
           return searched;
@@ -191,21 +186,14 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
       }
       p.h[i] = r.beyond_candidates ? 0.5 * searched : r.h;  // too few particles in the whole domain: keep all
       store(p.rho[i], r.rho);  // at p.h[i] (beyond: at h_max = searched / 2)
-      // Lists to be reused need their skin: where h grew during the solve so that less than half of
-      // it is left, search again to the full skin.
-      if (reusable && !r.beyond_candidates && searched < widest && searched < 2.0 * (1.0 + 0.5 * list_skin_) * r.h)
-        return 2.0 * skin * r.h;
-      const double keep = std::min(searched, 2.0 * skin * p.h[i]);
-      if (reusable) kept_[i] = keep;
-      return keep;
+      return std::min(searched, 2.0 * p.h[i]);
     };
     {
       ScopedPhase t(timers_, "neighbour_search");
       if (tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
       if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
-      // Left in the search's blocks unless reused lists will be read again (the half lists are
-      // made there; appending joins them).
-      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, reusable,
+      // Left in the search's blocks (the half lists are made there; appending joins them).
+      else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, false,
                                          tile_ordered ? pairs_lists_.order.data() : nullptr);
     }
     smoothing_length_sums_ += total_of(solve_sums_);
@@ -243,131 +231,17 @@ bool RateEvaluator<D>::adaptive_lists(Particles<D>& p, std::size_t active) {
   }
   // Each pair once, from the gather lists (pair_lists.hpp).
   if (!tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
-  if (reusable) {  // the lists hold every pair closer than either particle's gather radius
-    listed_h_.resize(owned);
-    for (std::size_t i = 0; i < owned; ++i) listed_h_[i] = 0.5 * kept_[i];
-  }
-  if (reusable) {
-    // The half lists are made inside the gather lists they come from, overwriting them in part;
-    // kept gather lists are read again by the next evaluations' h solves (reuse_adaptive_lists),
-    // so these half lists are made inside a copy.
-    candidates_.join();
-    gather_copy_.offsets = candidates_.offsets;
-    gather_copy_.index = candidates_.index;
-    gather_copy_.held_joined();
-    build_half_lists_from_gather(gather_copy_, p.pos, listed_h_, pairs_lists_, tile_ordered);
-  } else {
-    build_half_lists_from_gather(candidates_, p.pos, p.h, pairs_lists_, tile_ordered);
-  }
-  lists_built(p, reusable);
-  return true;
-}
-
-// Solves h_i on the kept gather lists (each particle's candidates within kept_[i] at the build)
-// and keeps every list when the solution and the particles' relative motion leave them complete:
-// each h_i within kept_[i] / 2 and every pair within 2 h_i now listed (list_reuse.hpp). Otherwise
-// h goes back to its start values and the caller rebuilds.
-template <int D>
-template <class K>
-bool RateEvaluator<D>::reuse_adaptive_lists(Particles<D>& p) {
-  const std::size_t n = p.size();
-  h_start_ = p.h;
-  const double uniform_mass = uniform_mass_of(p);
-  int inside;
-  solve_sums_.assign(n, 0);
-  {
-    ScopedPhase t(timers_, "neighbour_search");
-    inside = par::reduce(n, 1, [&](std::size_t i) {
-      // The kept lists reach (1 + skin) 2 h: the solve first gets the candidates within the
-      // search radius of a fresh search (kSkin 2 h), about 1 / (1 + skin)^D of them, and all of them
-      // only if h grew beyond.
-      thread_local std::vector<std::uint32_t> near_buffer;
-      thread_local std::vector<double> near_d2_buffer;
-      const std::span<const std::uint32_t> cand(candidates_.begin(i), candidates_.end(i));
-      const double radius = std::min(2.0 * kSkin * p.h[i], kept_[i]);
-      std::uint32_t* near = scratch_for(near_buffer, cand.size());
-      double* near_d2 = scratch_for(near_d2_buffer, cand.size());
-      std::size_t count = 0;
-      for (const std::uint32_t j : cand) {  // branch-free append
-        const double d2 = norm2(p.pos[i] - p.pos[j]);
-        near[count] = j;
-        near_d2[count] = d2;
-        count += static_cast<std::size_t>(d2 < radius * radius);
-      }
-      SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, std::span<const std::uint32_t>(near, count), std::span<const double>(near_d2, count),
-                                                          p.h[i], eta_, 0.5 * radius, uniform_mass);
-      std::size_t taken = static_cast<std::size_t>(r.sums);
-      if (r.beyond_candidates && radius < kept_[i]) {
-        r = smoothing_length_at<K, D>(i, p, cand, {}, p.h[i], eta_, 0.5 * kept_[i], uniform_mass);
-        taken += static_cast<std::size_t>(r.sums);
-      }
-      solve_sums_[i] = static_cast<std::uint32_t>(taken);
-      p.h[i] = r.h;
-      store(p.rho[i], r.rho);
-      return r.beyond_candidates ? 0 : 1;
-    }, [](int a, int b) { return a & b; });
-  }
-  smoothing_length_sums_ += total_of(solve_sums_);
-  if (inside && lists_still_valid(p, [this](std::size_t i) { return kept_[i]; },
-                                  [&p](std::size_t i) { return 2.0 * p.h[i]; }))
-    return true;
-  p.h = h_start_;
-  return false;
-}
-
-template <int D>
-bool RateEvaluator<D>::lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
-                                         const typename ListReuse<D>::Radius& support) {
-  ScopedPhase t(timers_, "list_check");
-  const typename ListReuse<D>::Verdict v = reuse_.check(grid_, p.pos, listed, support);
-  used_ = v.used;
-  return v.valid;
-}
-
-// After a build: the reuse test starts from these positions (when the lists may be reused).
-template <int D>
-void RateEvaluator<D>::lists_built(const Particles<D>& p, bool reusable) {
+  build_half_lists_from_gather(candidates_, p.pos, p.h, pairs_lists_, tile_ordered);
   ++list_builds_;
-  last_interval_ = since_build_;
-  since_build_ = 0;
-  used_ = 0;
-  if (reusable) {
-    ScopedPhase t(timers_, "list_check");
-    reuse_.record(grid_, p.pos, p.id);
-  } else {
-    reuse_.forget();
-  }
-}
-
-// The stored pairs the loops read: with a list skin the lists also hold pairs within the skin,
-// which are dropped here for this evaluation (the same bits, fewer pairs: pair_lists.hpp).
-template <int D>
-const PairLists& RateEvaluator<D>::interacting_pairs(const Particles<D>& p, std::size_t active) {
-  loop_lists_ = &pairs_lists_;
-  if (!reusable(active, p.size())) return pairs_lists_;
-  ScopedPhase t(timers_, "neighbour_search");
-  keep_interacting_pairs(pairs_lists_, p.pos, p.h, interacting_);
-  loop_lists_ = &interacting_;
-  return interacting_;
-}
-
-template <int D>
-bool RateEvaluator<D>::rebuild_due() const {
-  if (!reuse_.recorded()) return false;
-  if (since_build_ >= 2)  // the bound grew over since_build_ - 1 steps; one more step
-    return used_ * static_cast<double>(since_build_) / static_cast<double>(since_build_ - 1) >= 1.0;
-  return last_interval_ == 1;
+  return true;
 }
 
 template <int D>
 void RateEvaluator<D>::release_rebuilt_memory() {
-  reuse_.forget();  // the next evaluation builds its lists (no list to reuse is left)
-  release_memory(grid_, candidates_, gather_copy_, search_radius_, slopes_, pairs_lists_, interacting_,
+  release_memory(grid_, candidates_, search_radius_, slopes_, pairs_lists_,
                  writable_filter_, factors_, gradient_sums_, heating_scratch_, force_scratch_.inv_rho,
                  force_scratch_.p_over_rho2, force_scratch_.log_rho, force_scratch_.rho_without_self, force_scratch_.scales,
-                 solve_sums_, kept_, listed_h_, involved_, members_,
-                 predicted_h_);
-  loop_lists_ = &pairs_lists_;
+                 solve_sums_, involved_, members_, predicted_h_);
 }
 
 template <int D>
@@ -419,7 +293,7 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
     if (smoothing_ == Smoothing::Adaptive) {
       predicted_h_ = p.h;  // as adaptive_lists predicts them, before it takes the quantiles
       par::for_each(active, [&](std::size_t i) { predicted_h_[i] = predicted_smoothing_length(p.h[i], p.h_prev[i], p.h_prev2[i]); });
-      const CellsAndTiles c = cells_and_tiles(predicted_h_, 1.0);  // partial evaluations keep no lists for reuse
+      const CellsAndTiles c = cells_and_tiles(predicted_h_);
       cell_size = c.cell_size;
       whole_.widest_support = c.widest_support;
       par::for_each(active, [&](std::size_t i) { radius[i] = kHaloMargin * 2.0 * kSkin * predicted_h_[i]; });
@@ -470,7 +344,6 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
   // involved evaluation starts, so that one given up on (too many involved particles) leaves no
   // stale flag for the evaluation over all particles that follows.
   search_short_ = false;
-  loop_lists_ = &pairs_lists_;
   const bool rescan = storage_ == PairStorage::Rescan;
   std::size_t pair_count = 0;
   bool complete = true;
@@ -500,17 +373,13 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
       const auto form = [this, &p](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors) {
         form_list_factors<K>(p.pos.data(), slopes_.data(), i, js, factors);
       };
-      const PairLists& lists = interacting_pairs(p, active);
-      const StoredPairsFormingFactors<decltype(form)> pairs(lists, factors_, form);
+      const StoredPairsFormingFactors<decltype(form)> pairs(pairs_lists_, factors_, form);
       pair_loops(p, pairs, [&](const auto&) { set_volumes(p, pairs.writable()); });
-      pair_count = lists.total();
+      pair_count = pairs_lists_.total();
       return;
     }
     const double support = 2.0 * h_;  // all kernels have compact support 2h
-    const bool reusable = this->reusable(active, p.size());
-    const double listed = reusable ? (1.0 + list_skin_) * support : support;
-    widest_support_ = listed;
-    bool keep = false;
+    widest_support_ = support;
     if (domain_) {
       Lattice<D> lattice;
       {
@@ -523,36 +392,32 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
       build_cell_grid(lattice, p.pos, p.id, grid_);
     } else {
       std::fill(p.h.begin(), p.h.end(), h_);
-      keep = reusable && reuse_.same_particles(p.id) &&
-             lists_still_valid(p, [listed](std::size_t) { return listed; }, [support](std::size_t) { return support; });
-      if (!keep) {
-        ScopedPhase t(timers_, "cell_build");
-        if (whole_.set) build_cell_grid(whole_.lattice, p.pos, p.id, grid_);  // involved particles: the whole set's lattice
-        else build_cell_grid(p.pos, p.id, 0.5 * listed, grid_);
-      }
+      ScopedPhase t(timers_, "cell_build");
+      if (whole_.set) build_cell_grid(whole_.lattice, p.pos, p.id, grid_);  // involved particles: the whole set's lattice
+      else build_cell_grid(p.pos, p.id, 0.5 * support, grid_);
     }
     const KernelAt<K, D> kern(h_);
     // Lists searched anew, with nothing between the search and the density loop: the search runs on
     // the pair loops' schedule and sums the density on its way (tile_half_lists.hpp; the same bits).
-    const bool summed_in_search = !rescan && !reusable && density_in_search_;
-    if (!keep) {
+    const bool summed_in_search = !rescan && density_in_search_;
+    {
       ScopedPhase t(timers_, summed_in_search ? "search_and_density" : "neighbour_search");
       if (rescan) {
         scan_order(p.pos, active);
       } else if (summed_in_search) {
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
         ConstantHDensity<K, D> sums(p, kern, pairs_lists_.writable);
-        build_half_lists_on_tiles(grid_, p.pos, listed, pairs_lists_, tile_factors_, density_while_searching(sums));
+        build_half_lists_on_tiles(grid_, p.pos, support, pairs_lists_, tile_factors_, density_while_searching(sums));
         sums.finish();
-        lists_built(p, false);
+        ++list_builds_;
       } else {
-        // Each pair once, searched directly: tiles span the listed radius, so no pair is far.
+        // Each pair once, searched directly: tiles span the support, so no pair is far.
         build_tile_order(grid_, tile_cells(), active, pairs_lists_);
-        // Read where the search left them, unless reused lists are filtered (keep_interacting_pairs).
-        build_half_neighbour_lists(grid_, p.pos, listed, pairs_lists_.slot, active, pairs_lists_.order, pairs_lists_.near,
-                                   reusable);
+        // Read where the search left them (its blocks).
+        build_half_neighbour_lists(grid_, p.pos, support, pairs_lists_.slot, active, pairs_lists_.order, pairs_lists_.near,
+                                   false);
         no_far_pairs(pairs_lists_);
-        lists_built(p, reusable);
+        ++list_builds_;
       }
     }
     const auto density = [&](const auto& pairs) { compute_density(p, pairs, kern); };
@@ -567,14 +432,12 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
       pair_loops(p, scanned, density);
       pair_count = scanned.pairs_found();
     } else {
-      const PairLists& lists = interacting_pairs(p, active);
-      pair_loops(p, StoredPairs{lists, factors_}, density);
-      pair_count = lists.total();
+      pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
+      pair_count = pairs_lists_.total();
     }
   });
   if (!complete) return false;
   ++evaluations_;
-  ++since_build_;
   if (domain_) domain_->remove_ghosts(p);
   pairs_ += pair_count;
   updates_ += active;
@@ -637,11 +500,10 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity() + force_scratch_.log_rho.capacity() +
               force_scratch_.rho_without_self.capacity() + 2 * force_scratch_.scales.capacity()) *
                  sizeof(double);
-  scratch += (kept_.capacity() + listed_h_.capacity()) * sizeof(double) + writable_filter_.bytes();
+  scratch += writable_filter_.bytes();
   scratch += predicted_h_.capacity() * sizeof(double);
-  return {{"half_lists", pairs_lists_.bytes() + interacting_.bytes() + gather_copy_.bytes()},
+  return {{"half_lists", pairs_lists_.bytes()},
           {"involved_particles", involved_.bytes() + members_.capacity() * sizeof(std::uint32_t)},
-          {"list_reuse", reuse_.bytes()},
           {"candidate_lists", candidates_.bytes()},
           {"pair_factors", factors_.capacity() * sizeof(float) + tile_factors_.bytes()},
           {"kernel_slopes", slopes_.capacity() * sizeof(KernelSlope)},

@@ -16,7 +16,6 @@
 #include "integrate/rate_source.hpp"
 #include "neighbours/candidate_filter.hpp"
 #include "neighbours/cell_grid.hpp"
-#include "neighbours/list_reuse.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/tile_half_lists.hpp"
@@ -82,27 +81,14 @@ class RateEvaluator final : public RateSource<D> {
   void include_gravity(bool yes) override { gravity_ = yes; }
   bool includes_gravity() const { return gravity_; }
 
-  // Neighbour-list reuse (neighbours/list_reuse.hpp): lists are built with radii (1 + skin) x the
-  // supports and kept while the particles' relative motion leaves them complete. 0: built every
-  // evaluation. Reuse needs one process and full evaluations (all particles active); otherwise the
-  // lists are rebuilt.
-  void set_list_skin(double skin) { list_skin_ = skin; }
-  double list_skin() const { return list_skin_; }
-  // Whether the next evaluation will probably rebuild the lists (so reordering the particles
-  // before it, which forces a rebuild, costs nothing): the bound of the last test, extrapolated
-  // linearly in the evaluations since the build, reaches the slack; or the last lists served a
-  // single evaluation.
-  bool rebuild_due() const;
-  // Frees what every evaluation builds anew (cells, lists, tile order, scratch) and forgets lists
-  // kept for reuse: called before the particles are reordered, which would force all of it to be
-  // rebuilt anyway. The reorder's copies of the fields then do not come on top of it (the peak
-  // memory of a run, docs/performance.md, "Memory per particle"). The next evaluation allocates
-  // it again.
+  // Frees what every evaluation builds anew (cells, lists, tile order, scratch): called before the
+  // particles are reordered, so that the reorder's copies of the fields do not come on top of it
+  // (the peak memory of a run, docs/performance.md, "Memory per particle"). The next evaluation
+  // allocates it again.
   void release_rebuilt_memory();
-  std::size_t list_builds() const { return list_builds_; }  // evaluations that built their lists
+  std::size_t list_builds() const { return list_builds_; }  // evaluations that built stored lists
 
-  // Whether the pair loops read stored lists or search their pairs anew (PairStorage). Rescan
-  // keeps no lists, so list reuse (set_list_skin) does not apply to it.
+  // Whether the pair loops read stored lists or search their pairs anew (PairStorage).
   void set_pair_storage(PairStorage s) { storage_ = s; }
   PairStorage pair_storage() const { return storage_; }
   // Rescan is the mode for runs that would not fit otherwise: its per-particle scratch sized by the
@@ -121,7 +107,7 @@ class RateEvaluator final : public RateSource<D> {
   // Constant h searches each pair once (pair_lists()) and leaves these empty.
   const NeighbourLists& neighbours() const { return candidates_; }
   // Each interacting pair once (pair_lists.hpp), as the pair loops of the last evaluation read them.
-  const PairLists& pair_lists() const { return *loop_lists_; }
+  const PairLists& pair_lists() const { return pairs_lists_; }
   // Indexed by pair_lists' pairs; empty where the lists hold their factors per tile (the density
   // summed during the search, below).
   const PairFactors& pair_factors() const { return factors_; }
@@ -158,12 +144,6 @@ class RateEvaluator final : public RateSource<D> {
   bool evaluate_involved(Particles<D>& p, std::size_t active);
   template <class K>
   bool adaptive_lists(Particles<D>& p, std::size_t active);
-  template <class K>
-  bool reuse_adaptive_lists(Particles<D>& p);
-  bool lists_still_valid(const Particles<D>& p, const typename ListReuse<D>::Radius& listed,
-                         const typename ListReuse<D>::Radius& support);
-  void lists_built(const Particles<D>& p, bool reusable);
-  const PairLists& interacting_pairs(const Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
   // After the lists (Stored) or the tile order (Rescan): density, stress and forces over `pairs`;
   // density(pairs) runs the density loop.
@@ -171,9 +151,6 @@ class RateEvaluator final : public RateSource<D> {
   void pair_loops(Particles<D>& p, const Pairs& pairs, Density&& density);
   // Rescan: the tile order for pairs searched anew, and which grid slots hold writable particles.
   void scan_order(const std::vector<Vec<D>>& pos, std::size_t writable);
-  bool reusable(std::size_t active, std::size_t n) const {
-    return list_skin_ > 0 && !domain_ && active == n && storage_ == PairStorage::Stored && !whole_.set;
-  }
   int tile_cells() const;
 
   KernelType kernel_;
@@ -185,16 +162,12 @@ class RateEvaluator final : public RateSource<D> {
   CellGrid<D> grid_;       // kept between evaluations to reuse its memory
   ParticleDomain<D>* domain_ = nullptr;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
-  NeighbourLists gather_copy_;  // with a list skin: the copy of candidates_ that the half lists lie in
   std::vector<double> search_radius_;
   std::vector<double> history_;  // evaluate_again: the h history it keeps aside
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::vector<KernelSlope> slopes_;  // Adaptive: each particle's kernel slope (density.hpp)
   PairStorage storage_ = PairStorage::Stored;
-  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only;
-                           // with a list skin, also the pairs within it
-  PairLists interacting_;  // with a list skin: pairs_lists_ without the pairs beyond the supports now
-  const PairLists* loop_lists_ = &pairs_lists_;  // the lists the pair loops read
+  PairLists pairs_lists_;  // the interacting pairs, each once (pair_lists.hpp); Rescan: the tile order only
   CandidateFilter writable_filter_;  // Rescan: where the writable particles are (candidate_filter.hpp)
   double widest_support_ = 0;  // support radius that the pair schedule's tiles span
   PairFactors factors_;    // kernel-gradient factor of every pair (pair_factors.hpp)
@@ -213,14 +186,7 @@ class RateEvaluator final : public RateSource<D> {
   // Each particle's kernel sums in the current h solve, added up after it: not one shared counter,
   // whose cache line the threads would contend for.
   std::vector<std::uint32_t> solve_sums_;
-  double list_skin_ = 0;
-  ListReuse<D> reuse_;
-  std::vector<double> kept_;     // Adaptive: each particle's gather-list radius (listed radius)
-  std::vector<double> listed_h_;  // kept_ / 2: the h whose support the gather lists cover
   std::size_t list_builds_ = 0;
-  std::size_t since_build_ = 0;    // evaluations served by the current lists
-  std::size_t last_interval_ = 0;  // evaluations served by the previous lists
-  double used_ = 0;                // the last test's bound / slack
   // A partial evaluation on the involved particles (evaluate_involved) takes these choices from the
   // whole set, so that its cells, neighbour order, tiles and sums are those of an evaluation over
   // all particles (the lattice is shared as between ranks, cell_grid.hpp).

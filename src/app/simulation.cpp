@@ -96,7 +96,6 @@ class Runner {
     meta_.problem = cfg.initial_conditions.empty() ? "ring" : "initial_conditions";
     meta_.run_id = run_identity(cfg);
     if (distributed()) rates_.set_domain(&domain_);
-    rates_.set_list_skin(cfg.list_skin);
     rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));
     domain_.comm().barrier();  // a common time origin for every rank's trace track
     trace_origin_us_ = par::trace_now_us();
@@ -381,10 +380,8 @@ RunSummary Runner::advance() {
          (cfg_.max_steps == 0 || s_.step - steps_before < cfg_.max_steps)) {
     const std::size_t next = static_cast<std::size_t>(s_.next_output);
     if (s_.step > steps_before) rebalance();
-    // With reused lists, reorder when they are about to be rebuilt (a reorder forces a rebuild).
     // (Not when resumed inside a block cycle: its particles are kept in the order of that cycle.)
-    if (!integrator_->inside_step() &&
-        (rates_.list_skin() > 0 ? rates_.rebuild_due() : s_.step % reorder_interval(cfg_) == 0)) {
+    if (!integrator_->inside_step() && s_.step % reorder_interval(cfg_) == 0) {
       ScopedPhase timer(timers_, "reorder");
       // Without stored lists (the mode for runs that would not fit), what the evaluations rebuild
       // after a reorder is freed first: otherwise more pages stay with the process and raise its
@@ -524,14 +521,6 @@ double calibrated_smoothing_length(const Communicator& comm, Particles<kDim>& p,
   return calibrate_smoothing_length<kDim>(p, neighbours, &domain);
 }
 
-// Neighbour lists are reused only inside one process (rate_evaluator.hpp): refused up front rather
-// than ignored, before any output is written.
-void check_list_reuse(const Communicator& comm, const Config& cfg) {
-  if (comm.size() > 1 && cfg.list_skin > 0)
-    throw UserError("sph.list_skin > 0 needs one process (lists are not reused across ranks); set sph.list_skin = 0 "
-                    "or run without mpirun");
-}
-
 std::string interruption_note(const RunSummary& s) {
   if (!s.abandoned) return "interrupted by a signal; checkpoint written; continue with: sphdisk resume " + s.output_dir;
   if (s.checkpoint_step < 0)
@@ -553,7 +542,6 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
   if (pair_storage_from_name(cfg.pair_lists) == PairStorage::Rescan) map_large_allocations(std::size_t{1} << 20);
 
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
-  check_list_reuse(comm, cfg);
   Particles<kDim> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
@@ -620,7 +608,6 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
   // Later checkpoints record what this run continues with, overrides included, so that a second
   // resume keeps them.
   state.config_toml = cfg.resolved_toml;
-  check_list_reuse(comm, cfg);
   apply_run_options(cfg, opts);
   run_on_root(comm, [&] {
     char what[96];

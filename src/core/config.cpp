@@ -183,7 +183,6 @@ const std::vector<KeyDef>& schema() {
       string_key("sph.pair_density", &Config::pair_density, {"summation", "others"}, "with the consistent viscous force, the densities whose ratio gives S . grad ln rho: summation: the summed densities (a contrast too small by a fraction that does not shrink with N); others: each without the pair's own two terms (rho - m W(0, h) - m' W(r, h)): the ring's spreading rate within 1% at 30k-200k, but stronger radial ripples from 100k on and 2x the force loop's time (docs/validation.md, \"The density a pair compares\")"),
       bool_key("sph.force_correction", &Config::force_correction, "with sph.viscous_force = \"conservative\": eq. 6 with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
-      float_key("sph.list_skin", &Config::list_skin, in_range(0, 1), "neighbour lists built to (1 + skin) x the support and kept while the particles' relative motion leaves them complete (0: built every evaluation; one process, not with integrator.scheme = \"block\")"),
       string_key("sph.pair_lists", &Config::pair_lists, {"rescan", "stored"}, "rescan: each pair loop searches its pairs anew and nothing is stored (least memory; with block steps as fast as stored); stored: neighbour lists and pair factors built once per evaluation (faster with the leapfrog, respa and Runge-Kutta schemes, ~2.5x the memory)"),
       string_key("integrator.scheme", &Config::scheme, {"block", "leapfrog", "respa", "rk23", "rk45"}, "time integrator (block: individual power-of-two timesteps with gravity substeps, fastest at equal accuracy from 100k particles)"),
       float_key("integrator.tolerance", &Config::tolerance, in_range(1e-14, 0.1), "relative error tolerance per step (rk23, rk45)"),
@@ -242,6 +241,30 @@ void flatten(const toml::table& t, const std::string& prefix, std::vector<std::p
   }
 }
 
+// Keys of modes that were measured and retired (docs/design.md, "Modes kept and retired"): the value
+// that means what the code now always does is accepted (checkpoints record every key) and changes
+// nothing; any other value is refused, naming the replacement.
+struct RetiredKey {
+  const char* name;
+  double inert_value;
+  const char* replacement;
+};
+constexpr RetiredKey kRetiredKeys[] = {
+    {"sph.list_skin", 0.0,
+     "neighbour lists are built anew at every evaluation (reused lists with a skin were 35% slower on the ring at "
+     "3x the memory); remove the key"},
+};
+
+// True: name is a retired key given its inert value (nothing to do). Throws for any other value.
+bool retired_key(const std::string& name, const toml::node& node, const std::string& where) {
+  for (const RetiredKey& k : kRetiredKeys) {
+    if (name != k.name) continue;
+    if (node.is_number() && *node.value<double>() == k.inert_value) return true;
+    throw UserError(where + ": " + name + " was retired: " + k.replacement);
+  }
+  return false;
+}
+
 const KeyDef* find_key(const std::string& name) {
   for (const auto& k : schema())
     if (k.name == name) return &k;
@@ -249,6 +272,7 @@ const KeyDef* find_key(const std::string& name) {
 }
 
 void apply_node(const std::string& name, const toml::node& node, Config& c, const std::string& where) {
+  if (retired_key(name, node, where)) return;
   const KeyDef* def = find_key(name);
   if (!def) unknown_key(name, where);
   if (auto e = def->apply(node, c); !e.empty()) throw UserError(where + ": " + name + " " + e + " (" + def->help + ")");
@@ -341,17 +365,11 @@ void check_consistency(const Config& c) {
   if (c.force_correction && c.viscous_force != "conservative")
     throw UserError("config: sph.force_correction = true corrects the conservative form of eq. 6; add "
                     "sph.viscous_force = \"conservative\" (the default consistent form is corrected already)");
-  if (c.list_skin > 0 && c.pair_lists == "rescan")
-    throw UserError("config: sph.list_skin > 0 needs sph.pair_lists = \"stored\" (rescan keeps no lists to reuse); "
-                    "set sph.list_skin = 0 or sph.pair_lists = \"stored\"");
   if (c.viscous_update == "super_steps" && c.scheme != "block")
     throw UserError("config: integrator.viscous_update = \"super_steps\" needs integrator.scheme = \"block\"");
   if (c.viscous_update == "super_steps" && c.eos != "none")
     throw UserError("config: integrator.viscous_update = \"super_steps\" advances pressureless runs only (pressure "
                     "forces need the explicit kicks); set physics.eos = \"none\" or integrator.viscous_update = \"explicit\"");
-  if (c.list_skin > 0 && c.scheme == "block")
-    throw UserError("config: sph.list_skin > 0 cannot be used with integrator.scheme = \"block\" (its partial "
-                    "evaluations reorder the particles, so lists are rebuilt every time); set sph.list_skin = 0");
 }
 
 // An input file's path as the run will open it: a relative one taken from `from` (a configuration

@@ -38,7 +38,6 @@ struct Config {
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   std::string pair_lists = "rescan";  // rescan | stored (rate_evaluator.hpp, PairStorage)
-  double list_skin = 0;            // neighbour-list reuse (rate_evaluator.hpp); 0: lists built every evaluation
   // [integrator]
   std::string scheme = "block";  // block | leapfrog | respa | rk23 | rk45
   double tolerance = 1e-6;

@@ -322,66 +322,6 @@ void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<
   half_lists_inside<D>(gather, pos, h, out, within_tile, in_tile_order);
 }
 
-namespace {
-
-// The entries of `src` with keep(k, j) (k: the list's index), each list in its order; all src.size() lists.
-// Kept per block of lists first (the count of a list is known only once it is filtered), in the
-// blocks NeighbourLists::join reads, then joined.
-template <class Keep>
-void filter_lists(const NeighbourLists& src, NeighbourLists& out, Keep&& keep) {
-  constexpr std::size_t kListBlock = NeighbourLists::kBlock;
-  const std::size_t n = src.size();
-  const std::size_t nblocks = (n + kListBlock - 1) / kListBlock;
-  out.block_index.resize(nblocks);
-  out.block_count.resize(nblocks);
-  par::for_each(nblocks, [&](std::size_t b) {
-    std::vector<std::uint32_t> idx, cnt;  // local headers, the block's memory reused (neighbour_lists.cpp)
-    idx.swap(out.block_index[b]);
-    cnt.swap(out.block_count[b]);
-    const std::size_t i0 = b * kListBlock, i1 = std::min(n, i0 + kListBlock);
-    idx.resize(src.offsets[i1] - src.offsets[i0]);
-    cnt.resize(i1 - i0);
-    std::size_t end = 0;
-    for (std::size_t i = i0; i < i1; ++i) {  // branch-free: every entry written, the end advanced for kept ones
-      const std::size_t before = end;
-      for (const std::uint32_t j : src.list(i)) {
-        idx[end] = j;
-        end += static_cast<std::size_t>(keep(i, j));
-      }
-      cnt[i - i0] = static_cast<std::uint32_t>(end - before);
-    }
-    idx.resize(end);
-    out.block_index[b].swap(idx);
-    out.block_count[b].swap(cnt);
-  }, "neighbour_search");
-  out.offsets_from_blocks(n);
-  out.join();
-}
-
-}  // namespace
-
-template <int D>
-void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
-                            PairLists& out) {
-  out.order = listed.order;
-  out.tile_start = listed.tile_start;
-  out.tiles_by_colour = listed.tiles_by_colour;
-  out.colour_start = listed.colour_start;
-  out.writable = listed.writable;
-  out.slot = listed.slot;
-  out.tile = listed.tile;
-  out.tile_cells = listed.tile_cells;
-  out.tile_count = listed.tile_count;
-  out.tile_length = listed.tile_length;
-  out.writes = listed.writes;
-  const auto interacting = [&](std::size_t s, std::uint32_t j) {  // list s: particle order[s]'s
-    const std::uint32_t i = listed.order[s];
-    const double reach = 2.0 * std::max(h[i], h[j]);
-    return norm2(pos[i] - pos[j]) < reach * reach;
-  };
-  filter_lists(listed.near, out.near, interacting);
-  filter_lists(listed.far, out.far, interacting);
-}
 
 void no_far_pairs(PairLists& out) {
   out.far.offsets.assign(out.near.offsets.size(), 0);
@@ -392,8 +332,6 @@ template void build_tile_order(const CellGrid<2>&, int, std::size_t, PairLists&,
 template void build_tile_order(const CellGrid<3>&, int, std::size_t, PairLists&, TileWrites);
 template void build_half_lists_from_gather(NeighbourLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&, bool);
 template void build_half_lists_from_gather(NeighbourLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&, bool);
-template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<2>>&, const std::vector<double>&, PairLists&);
-template void keep_interacting_pairs(const PairLists&, const std::vector<Vec<3>>&, const std::vector<double>&, PairLists&);
 
 
 }  // namespace sphdisk

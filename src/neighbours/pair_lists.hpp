@@ -70,7 +70,6 @@ struct PairLists {
   std::size_t bytes() const;
 };
 
-
 // Step 1: the tile order of the grid's particles (order, tiles, slots; colours for Forward) with tiles of
 // tile_cells^D cells; pair terms are wanted for the particles [0, writable).
 template <int D>
@@ -91,14 +90,6 @@ void build_tile_order(const CellGrid<D>& grid, int tile_cells, std::size_t writa
 template <int D>
 void build_half_lists_from_gather(NeighbourLists& gather, const std::vector<Vec<D>>& pos,
                                   const std::vector<double>& h, PairLists& out, bool in_tile_order = false);
-
-// Step 3 of lists built wider than the supports (reused with a skin, list_reuse.hpp): `out` gets
-// `listed`'s schedule and, of its pairs, those closer than 2 max(h_i, h_j) now, in the same order.
-// The dropped pairs have zero kernel gradient (every kernel vanishes beyond 2h), so the pair loops
-// give the same bits on either; they skip the skin's pairs (~70% more at a skin of 0.3 in 2D).
-template <int D>
-void keep_interacting_pairs(const PairLists& listed, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
-                            PairLists& out);
 
 // Step 2, searched directly into out.near (build_half_neighbour_lists of neighbour_lists.hpp) with
 // tiles spanning the search radius, so that no pair is far: empties the far lists.

@@ -117,3 +117,15 @@ TEST(Config, QuotesOnlyWhereStringsMayBegin) {
   EXPECT_EQ(error_of("[output]\ndir = 'runs/\xc3\xa9t\xc3\xa9' # \xc3\xa9\n\"tau\" = [ 0.05,\n  0.09 ]\n"), "");
   EXPECT_EQ(error_of("output.dir = \"runs/x\"\nproblem.'seed' = 3\n"), "");
 }
+
+// A retired key (docs/design.md, "Modes kept and retired") with the value that means what the code
+// now always does is accepted, as older checkpoints record it; any other value names the replacement.
+TEST(Config, RetiredKeysAcceptTheirInertValueAndRefuseOthers) {
+  EXPECT_EQ(error_of("[sph]\nlist_skin = 0.0\n"), "");
+  EXPECT_EQ(error_of("", {"sph.list_skin=0"}), "");
+  const std::string e = error_of("[sph]\nlist_skin = 0.2\n");
+  EXPECT_NE(e.find("sph.list_skin was retired: neighbour lists are built anew"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  EXPECT_NE(error_of("", {"sph.list_skin=0.3"}).find("was retired"), std::string::npos);
+  EXPECT_EQ(parse_config("", "test.toml", {}).resolved_toml.find("list_skin"), std::string::npos);
+}

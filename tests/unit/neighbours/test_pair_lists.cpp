@@ -247,56 +247,6 @@ TEST(PairLists, HalfSearchEqualsBruteForce) {
   check_half_search(test::random_particles<3>(2000, 22, false), 0.12, 900);
 }
 
-// Lists built with a skin (radii 1.3 x the supports, as reused lists are) and cut back to the pairs
-// within the supports now (keep_interacting_pairs): exactly the pairs r < 2 max(h_i, h_j), each
-// once, near and far alike, each particle's list in the listed order.
-template <int D>
-void check_keep_interacting_pairs(Particles<D> p, double h0, int tile_cells) {
-  const std::size_t n = p.size();
-  std::mt19937_64 g(17);
-  std::uniform_real_distribution<double> u(0.7, 1.3);
-  std::vector<double> h(n), listed_h(n), gather_radius(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    h[i] = h0 * u(g);
-    listed_h[i] = 1.3 * h[i];
-    gather_radius[i] = 2.0 * listed_h[i];
-  }
-  CellGrid<D> grid;
-  build_cell_grid(p.pos, p.id, h0, grid);
-  PairLists listed, kept;
-  build_tile_order(grid, tile_cells, n, listed, TileWrites::AllNeighbours);
-  NeighbourLists gather;
-  build_neighbour_lists(grid, p.pos, gather_radius, gather);
-  build_half_lists_from_gather(gather, p.pos, listed_h, listed);
-  keep_interacting_pairs(listed, p.pos, h, kept);
-
-  std::set<std::pair<std::uint32_t, std::uint32_t>> expected, got;
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (std::uint32_t j = i + 1; j < n; ++j) {
-      const double reach = 2.0 * std::max(h[i], h[j]);
-      if (norm2(p.pos[i] - p.pos[j]) < reach * reach) expected.insert({i, j});
-    }
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> visited(kept.total(), {UINT32_MAX, UINT32_MAX});
-  for_each_pair(kept, [&](std::uint32_t i, std::uint32_t j, std::size_t k) { visited[k] = {std::min(i, j), std::max(i, j)}; });
-  for (const auto& v : visited) got.insert(v);
-  EXPECT_EQ(got.size(), visited.size()) << "a pair was visited twice, or a pair number skipped";
-  EXPECT_EQ(got, expected);
-  EXPECT_LT(static_cast<double>(kept.total()), 0.8 * static_cast<double>(listed.total()));  // the skin was there
-  EXPECT_GT(kept.far.total(), 0u);
-  EXPECT_GT(expected.size(), n);  // dense enough to mean something
-  for (const auto& [from, to] : {std::pair{&listed.near, &kept.near}, std::pair{&listed.far, &kept.far}})
-    for (std::size_t k = 0; k < n; ++k) {  // each kept list a subsequence of the listed one
-      const std::uint32_t* at = from->begin(k);
-      for (const std::uint32_t* j = to->begin(k); j != to->end(k); ++j, ++at) {
-        at = std::find(at, from->end(k), *j);
-        ASSERT_NE(at, from->end(k)) << "list " << k << ": pair with " << *j << " not in the listed order";
-      }
-    }
-}
-
-TEST(PairLists, KeepInteractingPairs2D) { check_keep_interacting_pairs(test::random_particles<2>(1500, 18, true), 0.012, 1); }
-TEST(PairLists, KeepInteractingPairs3D) { check_keep_interacting_pairs(test::random_particles<3>(1500, 19, false), 0.04, 1); }
-
 // Gather lists left in the search's blocks (build_settled_neighbour_lists with join = false) read
 // the same through list(i) as once joined, and give the same half lists: the run's path (lists
 // read in their blocks) against the joined one. 5,000 particles: ten blocks.
