@@ -161,65 +161,13 @@ struct Round {
 #endif
 
 // The scalar gradient loop compiled for AVX2: a pair's eight sums in two instructions, not four.
-// (The force loop compiled so was slower: it has its own AVX2 form below; docs/performance.md,
-// "Vector loops (AVX-512 and AVX2)".)
+// (The force loop compiled so was slower; with AVX2 only it runs the scalar loop: docs/design.md,
+// "Modes kept and retired".)
 [[gnu::target("avx2")]] void gradient_list_avx2(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                                                 std::span<const float> F, GradientSums<2>& sum_i) {
   add_gradient_list_scalar(d, i, js, F, sum_i);
 }
 
-#ifndef SPHDISK_SINGLE_PRECISION_FIELDS
-// force_list_avx512's operations four partners at a time, for AVX2: positions and stresses loaded
-// per partner and transposed to one vector per component (AVX2 gathers are slow on the CPUs that
-// lack AVX-512), 1/rho and masses set from scalar loads; then pair by pair in list order. The last,
-// partial round is the scalar loop's.
-[[gnu::target("avx2")]] void force_list_avx2(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
-                                             std::span<const float> F, Vec<2>& ai, double& du_i) {
-  const double* pos = reinterpret_cast<const double*>(d.pos);
-  const double* stress = reinterpret_cast<const double*>(d.stress);
-  const __m256d xi = _mm256_set1_pd(d.pos[i][0]), yi = _mm256_set1_pd(d.pos[i][1]);
-  __m256d Si[4];
-  for (int c = 0; c < 4; ++c) Si[c] = _mm256_set1_pd(d.stress[i].c[static_cast<std::size_t>(c)]);
-  const __m256d inv_rho_i = _mm256_set1_pd(d.inv_rho[i]), mi = _mm256_set1_pd(d.mass[i]);
-  __m128d sum = _mm_loadu_pd(ai.c.data());
-  alignas(32) double to_i[8], to_j[8];
-  const std::size_t n = js.size();
-  std::size_t q = 0;
-  for (; n - q >= 4; q += 4) {
-    const std::size_t j0 = js[q], j1 = js[q + 1], j2 = js[q + 2], j3 = js[q + 3];
-    const __m256d p01 = _mm256_set_m128d(_mm_loadu_pd(pos + 2 * j1), _mm_loadu_pd(pos + 2 * j0));  // x0 y0 x1 y1
-    const __m256d p23 = _mm256_set_m128d(_mm_loadu_pd(pos + 2 * j3), _mm_loadu_pd(pos + 2 * j2));
-    const __m256d f = _mm256_cvtps_pd(_mm_loadu_ps(F.data() + q));
-    const __m256d gx = _mm256_mul_pd(_mm256_sub_pd(xi, _mm256_permute4x64_pd(_mm256_unpacklo_pd(p01, p23), 0xD8)), f);
-    const __m256d gy = _mm256_mul_pd(_mm256_sub_pd(yi, _mm256_permute4x64_pd(_mm256_unpackhi_pd(p01, p23), 0xD8)), f);
-    // Rows (one partner's four stress components) to columns (one component of four partners).
-    const __m256d r0 = _mm256_loadu_pd(stress + 4 * j0), r1 = _mm256_loadu_pd(stress + 4 * j1);
-    const __m256d r2 = _mm256_loadu_pd(stress + 4 * j2), r3 = _mm256_loadu_pd(stress + 4 * j3);
-    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);  // 0 and 2; 1 and 3
-    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-    const __m256d Sj[4] = {_mm256_permute2f128_pd(t0, t2, 0x20), _mm256_permute2f128_pd(t1, t3, 0x20),
-                           _mm256_permute2f128_pd(t0, t2, 0x31), _mm256_permute2f128_pd(t1, t3, 0x31)};
-    const __m256d inv_rho_j = _mm256_setr_pd(d.inv_rho[j0], d.inv_rho[j1], d.inv_rho[j2], d.inv_rho[j3]);
-    __m256d X[4];
-    for (int c = 0; c < 4; ++c) X[c] = _mm256_add_pd(_mm256_mul_pd(Si[c], inv_rho_j), _mm256_mul_pd(Sj[c], inv_rho_i));
-    const __m256d fx = _mm256_add_pd(_mm256_mul_pd(X[0], gx), _mm256_mul_pd(X[1], gy));  // contract(X, g)
-    const __m256d fy = _mm256_add_pd(_mm256_mul_pd(X[2], gx), _mm256_mul_pd(X[3], gy));
-    const __m256d mj = _mm256_setr_pd(d.mass[j0], d.mass[j1], d.mass[j2], d.mass[j3]);
-    // (x, y) per pair: unpack gives pairs 0, 2 and 1, 3; the lane permutes put them in order.
-    const __m256d ax = _mm256_mul_pd(fx, mj), ay = _mm256_mul_pd(fy, mj);
-    const __m256d bx = _mm256_mul_pd(fx, mi), by = _mm256_mul_pd(fy, mi);
-    const __m256d a02 = _mm256_unpacklo_pd(ax, ay), a13 = _mm256_unpackhi_pd(ax, ay);
-    const __m256d b02 = _mm256_unpacklo_pd(bx, by), b13 = _mm256_unpackhi_pd(bx, by);
-    _mm256_store_pd(to_i, _mm256_permute2f128_pd(a02, a13, 0x20));
-    _mm256_store_pd(to_i + 4, _mm256_permute2f128_pd(a02, a13, 0x31));
-    _mm256_store_pd(to_j, _mm256_permute2f128_pd(b02, b13, 0x20));
-    _mm256_store_pd(to_j + 4, _mm256_permute2f128_pd(b02, b13, 0x31));
-    add_round(d, js.data() + q, 4, to_i, to_j, sum);
-  }
-  _mm_storeu_pd(ai.c.data(), sum);
-  if (q < n) force_list_terms<2, false, false>(d, i, js.subspan(q), F.subspan(q), ai, du_i);
-}
-#endif
 
 #endif
 
@@ -241,7 +189,6 @@ void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const 
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS
   if (!d.with_pressure && !d.force_correction && !d.consistent) {
     if (vector_isa() == VectorIsa::avx512) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
-    if (vector_isa() == VectorIsa::avx2) return force_list_avx2(d, i, js, F, ai, du_i);
   }
 #endif
 #endif

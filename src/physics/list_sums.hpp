@@ -6,7 +6,7 @@
 // scalar code each pair's terms are gathered, formed and scattered one at a time; in 2D on CPUs
 // with AVX-512 (asked at run time, core/vector_isa.hpp) eight partners are gathered and their terms
 // formed at once, then added pair by pair in list order; with AVX2 only, the scalar gradient loop
-// runs compiled for AVX2 and the forces four partners at a time. Both paths give the same bits: the
+// runs compiled for AVX2 (the forces the scalar loop). Both paths give the same bits: the
 // same operations in the same order (i's sum takes the partners in list order; a partner's sum gets
 // one addition per pair, as in the scalar loop), with floating-point contraction off in
 // list_sums.cpp, and the tests compare the two. The vector path covers the ring's case (no
@@ -199,8 +199,8 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
   force_list_terms<D, false, false>(d, i, js, F, ai, du_i);
 }
 
-// 2D: the vector paths where the CPU has AVX-512 or AVX2 (and the case is covered), else the scalar
-// loop.
+// 2D: the vector paths where the CPU has AVX-512 (gradient: or AVX2) and the case is covered, else
+// the scalar loop.
 // (The mixed correction's sums run the scalar loop.)
 void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<2>& sum_i);
