@@ -18,7 +18,8 @@ namespace sphdisk {
 namespace {
 
 constexpr int kDim = 2;
-// Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; still read.
+// Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; no longer read
+// (docs/design.md, "Modes kept and retired"), refused with a one-line error.
 // Format 2: the row-sum checksum below, which ranks can compute on their own rows.
 // Format 3 (2026-11-30): adds the smoothing-length history (h_prev, h_prev2), which earlier files
 // lack: their particles start without one, as new particles do.
@@ -33,6 +34,7 @@ constexpr int kDim = 2;
 // where unused: kMixedCorrectionOnly), which earlier files never hold: they were written by runs
 // without it (their configurations name the linear or no gradient correction).
 constexpr long long kFormatVersion = 7;
+constexpr long long kOldestFormatRead = 2;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
 
@@ -177,6 +179,10 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   if (!known || num("Dimension") != kDim)
     throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
   out.version = static_cast<long long>(version);
+  if (out.version < kOldestFormatRead)
+    throw UserError("'" + path + "' is a checkpoint of format " + std::to_string(out.version) +
+                    " (written before 2026-11-29), which this sphdisk no longer reads; continue it with the sphdisk that "
+                    "wrote it (its attribute CodeVersion names the commit) or start the run again");
   // A run continues bit for bit only in a build of the same field precision (core/particles.hpp);
   // checkpoints without the attribute come from before the option, all double.
   const bool single = h5::exists_attr(g, "SinglePrecisionFields") && num("SinglePrecisionFields") != 0;
@@ -215,10 +221,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   const double n_attr = num("NumParticles");
   out.checksum = h5::read_attr_string(g, "Checksum", path);
 
-  // Format 1's checksum runs through whole fields in order: read them whole, keep the share after.
-  const h5::RowShare read = out.version == 1 ? h5::RowShare{} : share;
-  Checksum sequential;
-  sequential.h = state_hash(s);  // format 1 hashed the state first, then the fields
+  const h5::RowShare read = share;
   h5::Handle parts = h5::open_group(file, "Particles", path);
   std::size_t n = 0;
   const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
@@ -250,16 +253,8 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
     }
     if (rows != n || field.size() != rows_read)
       throw UserError("'" + path + "': checkpoint dataset '" + name + "' has the wrong size");
-    if (out.version == 1) sequential.add(field.data(), field.size() * sizeof(T));
-    else out.sum += row_sum(f, share.first(n), field);
+    out.sum += row_sum(f, share.first(n), field);
   });
-  if (out.version == 1) {
-    if (out.checksum != std::to_string(sequential.h))
-      throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
-    std::vector<std::uint32_t> mine(share.count(n));
-    for (std::size_t k = 0; k < mine.size(); ++k) mine[k] = static_cast<std::uint32_t>(share.first(n) + k);
-    p.gather(mine);
-  }
   return out;
 }
 
@@ -275,7 +270,7 @@ Particles<2> read_checkpoint(const std::string& path, RunState& s, const Communi
     });
     got = read_checkpoint_unisolated(path, s, share);
   });
-  if (got.version != 1 && std::to_string(comm.sum(got.sum) + state_hash(s)) != got.checksum)
+  if (std::to_string(comm.sum(got.sum) + state_hash(s)) != got.checksum)
     throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
   return std::move(got.particles);
 }

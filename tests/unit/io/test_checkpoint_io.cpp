@@ -1,7 +1,6 @@
 // Checkpoints: bit-exact round trip of particles and run state; the row-sum checksum (format 2)
 // catches changed and swapped rows; files of format 1 (one FNV-1a hash over the fields in order,
-// written before 2026-11-29) are still read, with their own checksum checked. The format-1 hash is
-// written here independently of the reader.
+// written before 2026-11-29) are refused with the way out; formats 2-7 are read.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -85,25 +84,6 @@ void change_entries(const fs::path& path, const char* dataset, std::size_t entri
   ASSERT_GE(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
   change(all);
   ASSERT_GE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0);
-}
-
-// Format 1's checksum, as its writer computed it: FNV-1a over the state, then over every
-// checkpoint field's bytes in table order.
-std::string format1_checksum(const Particles<2>& p, const RunState& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto add = [&h](const void* data, std::size_t bytes) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
-  };
-  for (const double v : {s.time}) add(&v, 8);
-  for (const long long v : {s.step, s.next_output}) add(&v, 8);
-  for (const double v : {s.accreted_mass, s.accreted_angular_momentum, s.smoothing_length}) add(&v, 8);
-  for (const double v : s.integrator) add(&v, 8);
-  add(s.config_toml.data(), s.config_toml.size());
-  p.for_each_field([&](const FieldInfo& info, const auto& field) {
-    if (info.flags & kCheckpoint) add(field.data(), field.size() * sizeof(field[0]));
-  });
-  return std::to_string(h);
 }
 
 void set_attrs(const fs::path& path, long long version, const std::string& checksum) {
@@ -303,19 +283,24 @@ TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   EXPECT_NO_THROW(read_checkpoint(path.string(), r));
 }
 
-TEST(Checkpoint, FormatOneFilesAreStillReadAndChecked) {
-  const Particles<2> p = sample_particles();
-  const RunState s = sample_state();
+// Format 1 (one hash over whole fields) is no longer read: refused with one line naming the format
+// and what to do, and the file is left as it was.
+TEST(Checkpoint, FormatOneFilesAreRefusedWithTheWayOut) {
   const fs::path path = temp_file("format1.h5");
-  write_checkpoint(path.string(), p, s);
-  set_attrs(path, 1, format1_checksum(p, s));
+  write_checkpoint(path.string(), sample_particles(), sample_state());
+  set_attrs(path, 1, "12345");
+  const auto before = fs::file_size(path);
   RunState r;
-  const Particles<2> q = read_checkpoint(path.string(), r);
-  expect_same_bits(p.pos, q.pos);
-  expect_same_bits(p.du_dt, q.du_dt);
-  EXPECT_EQ(r.step, s.step);
-  overwrite_mass_row(path, 10, 2.0 * p.mass[10]);
-  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  try {
+    read_checkpoint(path.string(), r);
+    ADD_FAILURE() << "a format-1 checkpoint was accepted";
+  } catch (const UserError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is a checkpoint of format 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("continue it with the sphdisk that wrote it"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  EXPECT_EQ(fs::file_size(path), before);
 }
 
 // A checkpoint of format 2 (fixtures/checkpoint_format2.hdf5: 300 ring particles after 3 steps,
