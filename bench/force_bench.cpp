@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "parallel/loops.hpp"
 #include "problems/ring_setup.hpp"

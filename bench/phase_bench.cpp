@@ -30,7 +30,7 @@ namespace {
 using namespace sphdisk;
 
 constexpr double kNeighbours = 60;
-constexpr int kTileCells = 16;  // as a run with constant h uses (app/rate_evaluator.cpp)
+constexpr int kTileCells = 16;  // as a run with constant h uses (evaluate/rate_evaluator.cpp)
 
 // Everything a phase needs, evaluated once up to that phase.
 struct Fixture {

@@ -3,7 +3,7 @@
 // visited once (half neighbour lists, j after i in cell order) and its contribution is added to
 // both particles. It cannot run in parallel without write conflicts, which is why the parallel
 // code keeps full lists; this variant measures what that choice costs.
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/cell_grid.hpp"
 
 namespace sphdisk::bench {

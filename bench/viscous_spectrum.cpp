@@ -17,7 +17,7 @@
 #include <random>
 #include <string>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/cell_grid.hpp"
 #include "problems/ring_setup.hpp"
 

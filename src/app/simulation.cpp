@@ -18,7 +18,7 @@
 #include "app/diagnostics.hpp"
 #include "app/run_directory.hpp"
 #include "app/run_setup.hpp"
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "app/run_identity.hpp"
 #include "app/run_log.hpp"
 #include "app/run_records.hpp"

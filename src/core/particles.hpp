@@ -149,7 +149,7 @@ struct Particles {
 
   // Calls f(info, field, other's same field) for every field present in both, in table order
   // (copies between two sets of particles, e.g. a partial evaluation's involved particles,
-  // app/rate_evaluator.cpp).
+  // evaluate/rate_evaluator.cpp).
   template <class F>
   void for_each_field_with(const Particles& other, F&& f) {
 #define SPHDISK_VISIT_FIELD_WITH(name_, kind_, ds_, flags_, l_, m_, t_)                                             \

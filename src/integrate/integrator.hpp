@@ -1,6 +1,6 @@
 #pragma once
 // Time integrators. Each advances (pos, vel, u) with the rates of a RateSource (acc, du_dt;
-// integrate/rate_source.hpp, implemented by app/rate_evaluator.hpp):
+// integrate/rate_source.hpp, implemented by evaluate/rate_evaluator.hpp):
 //  - KDK leapfrog: second order, symplectic for the gravity part; no secular radial drift
 //    of Kepler orbits (docs/physics.md sec. 3, "accuracy trap").
 //  - respa: the same leapfrog on the hydrodynamic forces' own step, with the point mass's gravity

@@ -1,5 +1,5 @@
 #pragma once
-// What the integrators need of the rate evaluation (app/rate_evaluator.hpp implements it), so that
+// What the integrators need of the rate evaluation (evaluate/rate_evaluator.hpp implements it), so that
 // integrate/ depends on this and not on the evaluator's search, lists and halo machinery.
 #include <cstddef>
 

@@ -30,7 +30,7 @@ void write_parameters(hid_t file, const SnapshotMeta& meta) {
     else if (v.is_floating_point()) h5::write_attr(g, key, *v.value<double>());
     else if (v.is_boolean()) h5::write_attr(g, key, static_cast<long long>(*v.value<bool>()));
     else if (v.is_string()) h5::write_attr(g, key, *v.value<std::string>());
-    else if (const toml::array* a = v.as_array(); a && a->empty()) h5::write_attr(g, key, text);  // HDF5 has no empty attribute
+    else if (const toml::array* empty = v.as_array(); empty && empty->empty()) h5::write_attr(g, key, text);  // HDF5 has no empty attribute
     else if (const toml::array* a = v.as_array()) {
       std::vector<double> xs;
       for (const auto& e : *a) xs.push_back(e.value<double>().value_or(0.0));

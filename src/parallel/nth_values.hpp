@@ -2,7 +2,7 @@
 // The values of given ranks in an unsorted array (rank k: what std::nth_element puts at index k),
 // found in parallel (values finite, ranks below the size): a rank's value is unique, so it is the
 // same for any thread count. Used for the quantiles of h that size the cells and tiles of every
-// evaluation (app/rate_evaluator.cpp), which a copy and std::nth_element would make on one thread
+// evaluation (evaluate/rate_evaluator.cpp), which a copy and std::nth_element would make on one thread
 // while the others wait (docs/performance.md, "Serial passes and threads").
 // How: values are bucketed by a monotone map of [min, max] onto kBuckets buckets (histograms of
 // blocks in parallel), the bucket holding each rank is found from the counts, its values are

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <map>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "core/timers.hpp"
 #include "domain/distributed_domain.hpp"
 #include "parallel/communicator.hpp"

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "integrate/integrator.hpp"
 #include "parallel/loops.hpp"
 #include "problems/ring_setup.hpp"

@@ -9,7 +9,7 @@
 #include <numeric>
 #include <random>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/involved_particles.hpp"
 #include "test_helpers.hpp"
 

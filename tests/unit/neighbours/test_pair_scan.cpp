@@ -11,7 +11,7 @@
 #include <set>
 #include <utility>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/pair_scan.hpp"
 #include "parallel/loops.hpp"
 #include "test_helpers.hpp"

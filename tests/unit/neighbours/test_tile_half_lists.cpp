@@ -8,7 +8,7 @@
 #include <atomic>
 #include <vector>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/tile_half_lists.hpp"

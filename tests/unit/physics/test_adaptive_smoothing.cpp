@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <random>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "neighbours/pair_lists.hpp"
 #include "parallel/loops.hpp"
 #include "physics/smoothing_length.hpp"

@@ -4,7 +4,7 @@
 #include <numbers>
 #include <gtest/gtest.h>
 
-#include "app/rate_evaluator.hpp"
+#include "evaluate/rate_evaluator.hpp"
 #include "physics/viscous_stress.hpp"
 #include "test_helpers.hpp"
 

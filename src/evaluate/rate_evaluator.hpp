@@ -1,9 +1,11 @@
 #pragma once
-// One full evaluation of the time derivatives: [smoothing lengths ->] cell list -> neighbour lists ->
-// density -> velocity gradient and stress -> accelerations. The stages run in this order, each
-// under its phase timer; this is the function the integrators call.
-// Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt; keeps
-// the neighbour lists.
+// One evaluation of the time derivatives, the function the integrators call (through RateSource,
+// integrate/rate_source.hpp). Its stages, each under its phase timer (rate_evaluator.cpp, top to
+// bottom): choose the pair source (stored lists or pairs searched anew, one h or adaptive h) ->
+// search, with the h solve where h is adaptive (adaptive_search.cpp) -> density -> ghosts' halo ->
+// velocity gradient and stress -> halo -> heating -> forces (pair_loops). A block step's partial
+// evaluation may run them on the particles the active ones involve (partial_evaluation.cpp).
+// Reads: pos, vel, mass, u, id, h. Writes: h (adaptive smoothing), rho, stress, acc, du_dt.
 #include <atomic>
 #include <string>
 #include <tuple>
@@ -142,8 +144,16 @@ class RateEvaluator final : public RateSource<D> {
   bool evaluate_particles(Particles<D>& p, std::size_t active);
   // The evaluation on the particles the active ones involve (false: not worth it, nothing done).
   bool evaluate_involved(Particles<D>& p, std::size_t active);
-  template <class K>
+  // Adaptive h: the h solve during the search, then the pairs (adaptive_search.cpp; false: a search
+  // went beyond whole_.complete_radius).
   bool adaptive_lists(Particles<D>& p, std::size_t active);
+  template <class K>
+  bool adaptive_lists_with(K kernel, Particles<D>& p, std::size_t active);
+  // The pair source's search and the pair loops (rate_evaluator.cpp); each returns the pairs evaluated.
+  template <class K>
+  std::size_t adaptive_h_pairs(K kernel, Particles<D>& p);
+  template <class K>
+  std::size_t constant_h_pairs(K kernel, Particles<D>& p, std::size_t active);
   void refresh_ghosts(Particles<D>& p, GhostStage stage);
   // After the lists (Stored) or the tile order (Rescan): density, stress and forces over `pairs`;
   // density(pairs) runs the density loop.
