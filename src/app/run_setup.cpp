@@ -34,7 +34,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.gradient_correction = gradient_correction_from_name(cfg.gradient_correction);
   s.phys.force_correction = cfg.force_correction;
-  s.phys.viscous_force = viscous_force_from_name(cfg.viscous_force);
+  s.phys.viscous_force = viscous_force_from_name(cfg.resolved_viscous_force());
   s.phys.pair_density = pair_density_from_name(cfg.pair_density);
   s.phys.kernel = kernel_from_name(cfg.kernel);
   s.phys.accretion_radius = cfg.accretion_radius;

@@ -179,7 +179,7 @@ const std::vector<KeyDef>& schema() {
       float_key("sph.neighbours", &Config::neighbours, in_range(4, 10000), "target neighbour number: sets eta (adaptive) or the global h from the initial conditions (constant)"),
       string_or_bool_key("sph.gradient_correction", &Config::gradient_correction, {"mixed", "linear", "none"}, "linear", "none", "the kernel gradient of the velocity gradient (eq. 8) and of the consistent viscous force: linear: made exact for linear fields (C = M^-1); mixed: the gradient of the Shepard-normalised kernel made exact for linear fields (Bonet & Lok 1999): a particle's own velocity does not enter its gradient, which removes the growing modes of the viscous rates on close pairs (docs/validation.md); about 1.8x the ring's run time; none: eq. 8 as printed (the consistent force keeps C); true and false, the key's earlier values, mean linear and none"),
       string_key("sph.smoothing", &Config::smoothing, {"adaptive", "constant"}, "adaptive: h_i = eta (m_i/rho_i)^(1/D) with eta from sph.neighbours (Phantom, GADGET); constant: one global h (P98 sec. 5.3)"),
-      string_key("sph.viscous_force", &Config::viscous_force, {"consistent", "conservative"}, "divergence of the viscous stress (eq. 6): consistent: zero for a constant stress and exact for linear ones on any particle set (linear momentum conserved to the discretisation error); conservative: eq. 6 as printed (momentum and energy conserved to round-off, but too little spreading where viscosity acts within an orbit across a kernel, docs/validation.md)"),
+      string_key("sph.viscous_force", &Config::viscous_force, {"auto", "consistent", "conservative"}, "divergence of the viscous stress (eq. 6): auto: consistent with adaptive smoothing lengths, conservative with sph.smoothing = \"constant\" (with one h the wings' kernels hold few neighbours and the consistent form throws particles out of the ring, docs/validation.md); consistent: zero for a constant stress and exact for linear ones on any particle set (linear momentum conserved to the discretisation error); conservative: eq. 6 as printed (momentum and energy conserved to round-off, but too little spreading where viscosity acts within an orbit across a kernel, docs/validation.md)"),
       string_key("sph.pair_density", &Config::pair_density, {"summation", "others"}, "with the consistent viscous force, the densities whose ratio gives S . grad ln rho: summation: the summed densities (a contrast too small by a fraction that does not shrink with N); others: each without the pair's own two terms (rho - m W(0, h) - m' W(r, h)): the ring's spreading rate within 1% at 30k-200k, but stronger radial ripples from 100k on and 2x the force loop's time (docs/validation.md, \"The density a pair compares\")"),
       bool_key("sph.force_correction", &Config::force_correction, "with sph.viscous_force = \"conservative\": eq. 6 with the moment-corrected, pair-symmetrised kernel gradient (IAD0); momentum and energy stay exact"),
       float_key("sph.smoothing_length", &Config::smoothing_length, non_negative(), "smoothing length h in units of ring_radius (0: from sph.neighbours)"),
@@ -362,9 +362,9 @@ void check_consistency(const Config& c) {
   if (c.dimension != 2)
     throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
   if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");
-  if (c.force_correction && c.viscous_force != "conservative")
+  if (c.force_correction && c.resolved_viscous_force() != "conservative")
     throw UserError("config: sph.force_correction = true corrects the conservative form of eq. 6; add "
-                    "sph.viscous_force = \"conservative\" (the default consistent form is corrected already)");
+                    "sph.viscous_force = \"conservative\" (the consistent form, the default with adaptive h, is corrected already)");
   if (c.viscous_update == "super_steps" && c.scheme != "block")
     throw UserError("config: integrator.viscous_update = \"super_steps\" needs integrator.scheme = \"block\"");
   if (c.viscous_update == "super_steps" && c.eos != "none")

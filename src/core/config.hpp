@@ -33,7 +33,13 @@ struct Config {
   double neighbours = 60;          // target mean neighbour number of the initial conditions
   std::string gradient_correction = "linear";  // mixed | linear | none (physics/physics_params.hpp, GradientCorrection)
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
-  std::string viscous_force = "consistent";  // consistent | conservative (physics/physics_params.hpp)
+  std::string viscous_force = "auto";  // auto | consistent | conservative (physics/physics_params.hpp)
+  // The form viscous_force names: auto is the consistent form with adaptive smoothing lengths and
+  // eq. 6's conservative form with one h for all (docs/validation.md, "One smoothing length for all").
+  std::string resolved_viscous_force() const {
+    if (viscous_force != "auto") return viscous_force;
+    return smoothing == "constant" ? "conservative" : "consistent";
+  }
   std::string pair_density = "summation";    // summation | others (physics/physics_params.hpp, PairDensity)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
