@@ -25,7 +25,7 @@
 #include "app/smoothing_calibration.hpp"
 #include "core/error.hpp"
 #include "core/large_allocations.hpp"
-#include "core/timers.hpp"
+#include "parallel/timers.hpp"
 #include "core/units.hpp"
 #include "core/vector_isa.hpp"
 #include "domain/distributed_domain.hpp"

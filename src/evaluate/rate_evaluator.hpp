@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
-#include "core/timers.hpp"
+#include "parallel/timers.hpp"
 #include "domain/particle_domain.hpp"
 #include "integrate/rate_source.hpp"
 #include "neighbours/candidate_filter.hpp"

@@ -4,7 +4,7 @@
 #include <cstddef>
 
 #include "core/particles.hpp"
-#include "core/timers.hpp"
+#include "parallel/timers.hpp"
 #include "physics/physics_params.hpp"
 
 namespace sphdisk {

@@ -9,7 +9,7 @@
 #include <map>
 
 #include "evaluate/rate_evaluator.hpp"
-#include "core/timers.hpp"
+#include "parallel/timers.hpp"
 #include "domain/distributed_domain.hpp"
 #include "parallel/communicator.hpp"
 #include "problems/ring_setup.hpp"

@@ -1,4 +1,4 @@
-#include "core/timers.hpp"
+#include "parallel/timers.hpp"
 
 #include <cstdio>
 #include <sstream>
