@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "evaluate/rate_evaluator.hpp"
 #include "integrate/integrator.hpp"
 #include "core/vector_isa.hpp"
 #include "neighbours/candidate_scan.hpp"
