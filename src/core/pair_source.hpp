@@ -1,7 +1,13 @@
 #pragma once
-// What the pair loops of physics/ tell a pair source (neighbours/pair_lists.hpp, pair_scan.hpp,
-// tile_half_lists.hpp) besides the list body: for_each_list(f, use, trace_label, far_pairs). Here,
-// not in neighbours/, so that the physics loops need no neighbour-search header.
+// What the pair loops of physics/ need of a pair source (neighbours/pair_lists.hpp, pair_scan.hpp,
+// tile_half_lists.hpp) and what they tell it besides the list body: for_each_list(f, use,
+// trace_label, far_pairs). Here, not in neighbours/, so that the physics loops need no
+// neighbour-search header.
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
 
 namespace sphdisk {
 
@@ -13,5 +19,24 @@ enum class FactorUse { Write, Read };
 // velocity-gradient sums: so that a particle's sums are complete once the tiles around it have
 // passed, and the force loop can follow the gradient loop tile by tile, tile_jobs.hpp).
 enum class FarPairs { Last, First };
+
+// A list body as a pair source calls it: particle i, its partners js, and the kernel-gradient
+// factors of those pairs (physics/pair_factors.hpp).
+using PairListBody = void (*)(std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> factors);
+
+// A pair source: how many particles (the first ones) get new values, its factors made ready for a
+// loop that writes them, and every list of pairs visited once (StoredPairs, StoredPairsFormingFactors
+// and TiledPairs of neighbours/pair_lists.hpp and tile_half_lists.hpp, ScannedPairs of pair_scan.hpp).
+template <class Pairs>
+concept PairSource = requires(const Pairs& pairs, PairListBody body) {
+  { pairs.writable() } -> std::convertible_to<std::size_t>;
+  pairs.prepare_factors();
+  pairs.for_each_list(body, FactorUse::Write, std::string_view{}, FarPairs::Last);
+};
+
+// A pair source that can search its pairs once for two loops (ScannedPairs: the velocity gradient
+// and the forces, physics/viscous_rates.hpp).
+template <class Pairs>
+concept JoinsLoops = PairSource<Pairs> && requires { Pairs::kJoinsLoops; };
 
 }  // namespace sphdisk

@@ -103,6 +103,7 @@ bool RateEvaluator<D>::evaluate_particles(Particles<D>& p, std::size_t active) {
 template <int D>
 template <class Pairs, class Density>
 void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&& density) {
+  static_assert(PairSource<Pairs>);
   {
     ScopedPhase t(timers_, "density");
     density(pairs);

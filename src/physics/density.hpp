@@ -86,7 +86,7 @@ class ConstantHDensity {
 };
 
 // pairs: StoredPairs (pair_lists.hpp), ScannedPairs (pair_scan.hpp) or TiledPairs (tile_half_lists.hpp).
-template <class K, int D, class Pairs>
+template <class K, int D, PairSource Pairs>
 void compute_density(Particles<D>& p, const Pairs& pairs, const KernelAt<K, D>& kern) {
   pairs.prepare_factors();
   ConstantHDensity<K, D> sums(p, kern, pairs.writable());

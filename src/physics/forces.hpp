@@ -93,7 +93,7 @@ auto force_list_body(Particles<D>& p, const ForceListData<D>& d) {
   };
 }
 
-template <int D, class Pairs>
+template <int D, PairSource Pairs>
 void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, ForceScratch& scratch,
                            bool with_gravity = true) {
   const ForceListData<D> d = prepare_forces(p, pairs.writable(), phys, scratch, with_gravity);

@@ -6,6 +6,7 @@
 // correction's heating (with an energy equation), whose loop must run between the two.
 #include <vector>
 
+#include "core/pair_source.hpp"
 #include "core/particles.hpp"
 #include "physics/forces.hpp"
 #include "physics/physics_params.hpp"
@@ -13,10 +14,7 @@
 
 namespace sphdisk {
 
-template <class Pairs>
-concept JoinsLoops = requires { Pairs::kJoinsLoops; };
-
-template <int D, class Pairs>
+template <int D, JoinsLoops Pairs>
 void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys,
                                       GradientSumsArray<D>& sums, ForceScratch& scratch, bool with_gravity) {
   const std::size_t m = pairs.writable();

@@ -124,7 +124,7 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
 
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
 // scales: scratch, the kernel scales (kernel_scales.hpp).
-template <int D, class Pairs>
+template <int D, PairSource Pairs>
 void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums,
                             OverwriteVector<KernelScale>& scales) {
   const std::size_t m = pairs.writable();
@@ -140,7 +140,7 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
 // added in settle_stress; add_force_corrected_heating adds the second half, which needs
 // p.correction of every neighbour: its sums H, each pair's two terms from corrected_heating_term
 // (pair_terms.hpp).
-template <int D, class Pairs>
+template <int D, PairSource Pairs>
 void sum_corrected_heating_terms(const Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {
   const std::size_t m = pairs.writable();
   sum_pair_lists(pairs, H, [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F, Mat<D>& sum_i) {
@@ -161,7 +161,7 @@ void sum_corrected_heating_terms(const Particles<D>& p, const Pairs& pairs, std:
 // so it runs after compute_viscous_stress has set them all (and the ghosts' have been refreshed).
 // Not needed where the particles hold no energy rate (no energy equation: du_dt absent).
 // H: scratch.
-template <int D, class Pairs>
+template <int D, PairSource Pairs>
 void add_force_corrected_heating(Particles<D>& p, const Pairs& pairs, std::vector<Mat<D>>& H) {
   sum_corrected_heating_terms(p, pairs, H);
   const std::size_t m = pairs.writable();

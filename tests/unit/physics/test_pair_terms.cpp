@@ -463,6 +463,7 @@ Particles<2> particles() {
 struct OneList {
   mutable std::vector<float> F = kFactors;
   std::size_t writable() const { return kWritable; }
+  void prepare_factors() const {}
   template <class Body>
   void for_each_list(Body&& f, FactorUse, std::string_view = {}, FarPairs = FarPairs::Last) const {
     f(kOwner, std::span<const std::uint32_t>(kPartners), std::span<float>(F));
