@@ -31,6 +31,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
   s.phys.eos = eos_from_name(cfg.eos);
   s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
+  s.phys.sound_speed_index = cfg.sound_speed_index;
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.gradient_correction = gradient_correction_from_name(cfg.gradient_correction);
   s.phys.force_correction = cfg.force_correction;

@@ -170,8 +170,9 @@ const std::vector<KeyDef>& schema() {
       float_key("physics.central_mass", &Config::central_mass, positive(), "central point mass M in solar masses (the code mass unit)"),
       float_key("physics.viscosity", &Config::viscosity, non_negative(), "kinematic shear viscosity nu in solar radii^2 / s"),
       float_key("physics.bulk_viscosity", &Config::bulk_viscosity, non_negative(), "kinematic bulk viscosity zeta/rho in solar radii^2 / s"),
-      string_key("physics.eos", &Config::eos, {"none", "isothermal"}, "equation of state (none: pressureless, as in the ring test)"),
-      float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s"),
+      string_key("physics.eos", &Config::eos, {"none", "isothermal", "locally_isothermal"}, "equation of state: none (pressureless, as in the ring test), isothermal (P = c_s^2 rho), locally_isothermal (P = c_s(R)^2 rho, c_s(R) = physics.sound_speed (R / r0)^-physics.sound_speed_index, R the cylindrical radius: Phantom's ieos = 3)"),
+      float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
+      float_key("physics.sound_speed_index", &Config::sound_speed_index, in_range(-2, 2), "locally_isothermal: q of c_s(R) = c_s (R / r0)^-q (Phantom's qfacdisc; 0.25 for its test disc)"),
       bool_key("physics.evolve_energy", &Config::evolve_energy, "integrate the internal energy (viscous heating)"),
       float_key("physics.accretion_radius", &Config::accretion_radius, non_negative(), "accretion radius in units of ring_radius"),
       int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
@@ -357,8 +358,8 @@ void check_consistency(const Config& c) {
   if (c.output_times.empty() && c.output_orbits.empty() && c.initial_conditions.empty() && c.output_tau.front() <= c.tau_start)
     throw UserError("config: output.tau must start after problem.tau_start = " + toml_text(c.tau_start) +
                     " (got " + toml_text(c.output_tau.front()) + ")");
-  if (c.eos == "isothermal" && c.sound_speed <= 0)
-    throw UserError("config: physics.eos = \"isothermal\" needs physics.sound_speed > 0 (km/s)");
+  if (c.eos != "none" && c.sound_speed <= 0)
+    throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s)");
   if (c.dimension != 2)
     throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
   if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");

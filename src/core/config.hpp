@@ -25,6 +25,7 @@ struct Config {
   double bulk_viscosity = 0.0;     // kinematic bulk viscosity, solar radii^2 / s
   std::string eos = "none";        // none | isothermal
   double sound_speed = 0.0;        // km/s (isothermal)
+  double sound_speed_index = 0;  // locally isothermal: q of c_s(R) = c_s (R / r0)^-q
   bool evolve_energy = false;
   double accretion_radius = 0.05;  // in units of ring_radius
   // [sph]

@@ -69,7 +69,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
     inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
-    if (with_pressure) Pr[i] = pressure(phys, p.rho[i]) * inv_rho[i] * inv_rho[i];
+    if (with_pressure) Pr[i] = pressure(phys, static_cast<double>(p.rho[i]), p.pos[i]) * inv_rho[i] * inv_rho[i];
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),

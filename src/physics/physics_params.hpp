@@ -1,13 +1,18 @@
 #pragma once
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
+#include <cmath>
 #include <string_view>
 
 #include "core/named_choice.hpp"
+#include "core/vec.hpp"
 #include "physics/kernels.hpp"
 
 namespace sphdisk {
 
-enum class EquationOfState { None, Isothermal };
+// The equation of state: none (pressureless, as in the ring test, P98 5.2); isothermal, P = c_s^2 rho
+// with one c_s; locally isothermal, P = c_s(R)^2 rho with c_s(R) = c_s0 (R / r0)^-q, R the
+// cylindrical radius (Phantom's ieos = 3; docs/physics.md sec. 4).
+enum class EquationOfState { None, Isothermal, LocallyIsothermal };
 
 // How eq. 6's divergence of the viscous stress is discretised (physics/forces.hpp):
 //   Conservative: sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij, as P98 prints it; pair terms
@@ -50,7 +55,8 @@ struct PhysicsParams {
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
   double nu_bulk = 0.0;           // kinematic bulk viscosity zeta / rho (P98 eq. 2; zero in the paper)
   EquationOfState eos = EquationOfState::None;  // None: pressureless, as in the ring test (P98 5.2)
-  double sound_speed = 0.0;       // isothermal sound speed c_s, P = c_s^2 rho
+  double sound_speed = 0.0;       // c_s (isothermal), or c_s0 at R = r0 = 1 (locally isothermal)
+  double sound_speed_index = 0.0; // q of c_s(R) = c_s0 R^-q (locally isothermal)
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
   GradientCorrection gradient_correction = GradientCorrection::Linear;  // discretisation: the kernel gradient (above)
@@ -74,7 +80,8 @@ struct PhysicsParams {
 
 // The configuration's names of the choices above (core/config.cpp lists the allowed ones).
 inline constexpr NamedChoice<EquationOfState> kEosNames[] = {{"none", EquationOfState::None},
-                                                             {"isothermal", EquationOfState::Isothermal}};
+                                                             {"isothermal", EquationOfState::Isothermal},
+                                                             {"locally_isothermal", EquationOfState::LocallyIsothermal}};
 inline constexpr NamedChoice<ViscousForce> kViscousForceNames[] = {{"consistent", ViscousForce::Consistent},
                                                                    {"conservative", ViscousForce::Conservative}};
 inline constexpr NamedChoice<PairDensity> kPairDensityNames[] = {{"summation", PairDensity::Summation},
@@ -95,8 +102,20 @@ inline GradientCorrection gradient_correction_from_name(std::string_view s) {
   return choice_from_name<GradientCorrection>("sph.gradient_correction", s, kGradientCorrectionNames);
 }
 
-inline double pressure(const PhysicsParams& p, double rho) {
-  return p.eos == EquationOfState::Isothermal ? p.sound_speed * p.sound_speed * rho : 0.0;
+// The sound speed at position x (code units: r0 = 1): c_s, or c_s0 R^-q with R the cylindrical radius.
+template <int D>
+double sound_speed_at(const PhysicsParams& p, const Vec<D>& x) {
+  if (p.eos != EquationOfState::LocallyIsothermal) return p.sound_speed;
+  const double R2 = x[0] * x[0] + x[1] * x[1];
+  return p.sound_speed * std::pow(R2, -0.5 * p.sound_speed_index);
+}
+
+// P at density rho and position x (0 without an equation of state).
+template <int D>
+double pressure(const PhysicsParams& p, double rho, const Vec<D>& x) {
+  if (p.eos == EquationOfState::None) return 0.0;
+  const double c = sound_speed_at(p, x);
+  return c * c * rho;
 }
 
 }  // namespace sphdisk

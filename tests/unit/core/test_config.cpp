@@ -129,3 +129,13 @@ TEST(Config, RetiredKeysAcceptTheirInertValueAndRefuseOthers) {
   EXPECT_NE(error_of("", {"sph.list_skin=0.3"}).find("was retired"), std::string::npos);
   EXPECT_EQ(parse_config("", "test.toml", {}).resolved_toml.find("list_skin"), std::string::npos);
 }
+
+// The locally isothermal equation of state names its sound speed at r0 and the power-law index.
+TEST(Config, LocallyIsothermalNeedsItsSoundSpeed) {
+  const Config c = parse_config("[physics]\neos = \"locally_isothermal\"\nsound_speed = 2.0\nsound_speed_index = 0.25\n",
+                                "test.toml", {});
+  EXPECT_DOUBLE_EQ(c.sound_speed_index, 0.25);
+  EXPECT_NE(error_of("[physics]\neos = \"locally_isothermal\"\n").find("physics.eos = \"locally_isothermal\" needs physics.sound_speed > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of("[physics]\nsound_speed_index = 3.0\n").find("physics.sound_speed_index must be in"), std::string::npos);
+}

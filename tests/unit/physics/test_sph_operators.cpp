@@ -197,6 +197,39 @@ TEST(ViscousForce, ZeroForRigidRotation) {
   }
 }
 
+// Locally isothermal gas at rest with uniform density (P = c_s0^2 R^-2q rho, docs/physics.md sec. 4)
+// on a lattice centred at (2, 0): the pressure force is -grad P / rho = 2 q c_s0^2 R^(-2q-1) R^,
+// outward. Isothermal gas (q = 0) feels none.
+TEST(PressureForce, LocallyIsothermalMatchesTheAnalyticGradient) {
+  for (const double q : {0.0, 0.5, 1.0}) {
+    Particles<2> p = test::square_lattice(kN, kDx);
+    const double eta = 2.2;
+    const std::vector<std::size_t> inner = test::interior(p, kHalf, 2.0 * 2.0 * eta * kDx + 1e-9);
+    ASSERT_GT(inner.size(), 100u);
+    for (auto& x : p.pos) x[0] += 2.0;
+    PhysicsParams phys;
+    phys.gm = 0.0;
+    phys.eos = EquationOfState::LocallyIsothermal;
+    phys.sound_speed = 0.1;
+    phys.sound_speed_index = q;
+    PhaseTimers timers;
+    RateEvaluator<2> rates(KernelType::Cubic, eta * kDx, phys, timers);
+    rates.evaluate(p);
+    double worst = 0;
+    const double scale = 2.0 * 0.5 * 0.01 * std::pow(2.5, -2.0);  // the q = 0.5 force's size
+    for (std::size_t i : inner) {
+      const Vec<2> x = p.pos[i];
+      const double R = norm(x);
+      const double a = 2.0 * q * 0.01 * std::pow(R, -2.0 * q - 1.0);
+      const Vec<2> expected = x * (a / R);
+      worst = std::max(worst, norm(p.acc[i] - expected) / scale);
+      EXPECT_DOUBLE_EQ(sound_speed_at(phys, p.pos[i]), 0.1 * std::pow(R, -q));
+    }
+    std::printf("q = %.1f: largest deviation %.2e of the q = 0.5 force\n", q, worst);
+    EXPECT_LT(worst, 0.01) << "q = " << q;
+  }
+}
+
 // v = (a x^2, b x y): (1/rho) div t = (nu (2a + (2a+b)/3) + nu_b (2a+b), 0)   [eq. 1 with eq. 2]
 TEST(ViscousForce, MatchesAnalyticDivergenceOfStressForQuadraticField) {
   const double a = 0.8, b = -0.5, nu = 0.01, nu_b = 0.004;
