@@ -81,7 +81,7 @@ void SymmetricSequential::evaluate(Particles<2>& p, double h, const PhysicsParam
     }
   for (std::size_t i = 0; i < n; ++i) {
     // (The linear correction, whichever phys names: this variant times the conservative force's loops.)
-    p.stress[i] = kinematic_stress(phys.gradient_correction != GradientCorrection::None ? corrected_gradient(g[i]) : g[i].V, phys);
+    p.stress[i] = kinematic_stress(phys.gradient_correction != GradientCorrection::None ? corrected_gradient(g[i]) : g[i].V, phys.nu, phys);
     p.acc[i] = point_mass_gravity(p.pos[i], phys.gm);
   }
   for (std::size_t i = 0; i < n; ++i) {

@@ -29,6 +29,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.gm = 1.0;
   s.phys.nu = cfg.viscosity * rsun2_per_s;
   s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
+  s.phys.alpha_ss = cfg.alpha_ss;
   s.phys.eos = eos_from_name(cfg.eos);
   s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
   s.phys.sound_speed_index = cfg.sound_speed_index;

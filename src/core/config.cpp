@@ -169,6 +169,7 @@ const std::vector<KeyDef>& schema() {
       string_key("problem.initial_conditions", &Config::initial_conditions, {}, "HDF5 snapshot to start from (\"\": generate the ring)"),
       float_key("physics.central_mass", &Config::central_mass, positive(), "central point mass M in solar masses (the code mass unit)"),
       float_key("physics.viscosity", &Config::viscosity, non_negative(), "kinematic shear viscosity nu in solar radii^2 / s"),
+      float_key("physics.alpha_ss", &Config::alpha_ss, in_range(0, 10), "Shakura-Sunyaev alpha: nu = alpha c_s H per particle, H = c_s / Omega (Phantom's irealvisc = 2), instead of physics.viscosity (then 0); needs an equation of state, and output.times or output.orbits (no viscous time); 0: the constant physics.viscosity"),
       float_key("physics.bulk_viscosity", &Config::bulk_viscosity, non_negative(), "kinematic bulk viscosity zeta/rho in solar radii^2 / s"),
       string_key("physics.eos", &Config::eos, {"none", "isothermal", "locally_isothermal"}, "equation of state: none (pressureless, as in the ring test), isothermal (P = c_s^2 rho), locally_isothermal (P = c_s(R)^2 rho, c_s(R) = physics.sound_speed (R / r0)^-physics.sound_speed_index, R the cylindrical radius: Phantom's ieos = 3)"),
       float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
@@ -358,6 +359,13 @@ void check_consistency(const Config& c) {
   if (c.output_times.empty() && c.output_orbits.empty() && c.initial_conditions.empty() && c.output_tau.front() <= c.tau_start)
     throw UserError("config: output.tau must start after problem.tau_start = " + toml_text(c.tau_start) +
                     " (got " + toml_text(c.output_tau.front()) + ")");
+  if (c.alpha_ss > 0 && c.eos == "none")
+    throw UserError("config: physics.alpha_ss > 0 needs a sound speed (nu = alpha c_s H): set physics.eos = "
+                    "\"locally_isothermal\" or \"isothermal\" with physics.sound_speed");
+  if (c.alpha_ss > 0 && c.viscosity > 0)
+    throw UserError("config: physics.alpha_ss > 0 replaces physics.viscosity; set physics.viscosity = 0");
+  if (c.alpha_ss > 0 && c.output_times.empty() && c.output_orbits.empty())
+    throw UserError("config: with physics.alpha_ss > 0 there is no viscous time tau; give output.times or output.orbits");
   if (c.eos != "none" && c.sound_speed <= 0)
     throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s)");
   if (c.dimension != 2)

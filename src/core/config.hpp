@@ -23,6 +23,7 @@ struct Config {
   double central_mass = 1.0;       // solar masses: the mass unit M
   double viscosity = 3e-8;         // kinematic shear viscosity, solar radii^2 / s
   double bulk_viscosity = 0.0;     // kinematic bulk viscosity, solar radii^2 / s
+  double alpha_ss = 0;  // > 0: nu = alpha c_s H per particle instead of viscosity (physics_params.hpp)
   std::string eos = "none";        // none | isothermal
   double sound_speed = 0.0;        // km/s (isothermal)
   double sound_speed_index = 0;  // locally isothermal: q of c_s(R) = c_s (R / r0)^-q

@@ -304,10 +304,11 @@ class BlockLeapfrog final : public Integrator<D> {
   // the mean acceleration over the step.
   void super_step_rates(Particles<D>& p, std::size_t active, double tick, bool energy) {
     const PhysicsParams& phys = rates_.physics();
-    const double nu = std::max(phys.nu, phys.nu_bulk), limit = explicit_viscous_limit(phys);
+    const double limit = explicit_viscous_limit(phys);
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
     // (from the h just solved for; fixed for the update, though the later evaluations solve for h anew)
     const auto plan_at = [&](std::size_t i) {
+      const double nu = std::max(shear_viscosity_at(phys, p.pos[i]), phys.nu_bulk);
       return super_step_plan(nu > 0 ? tau(i) * nu / (limit * p.h[i] * p.h[i]) : 0.0);
     };
     par::for_each(active, [&](std::size_t i) {

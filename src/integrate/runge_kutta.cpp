@@ -65,8 +65,8 @@ class EmbeddedRungeKutta final : public Integrator<D> {
   double step(Particles<D>& p, double dt_cap) override {
     const PhysicsParams& phys = rates_.physics();
     const double dt_stable = std::min(
-        stability_timestep(rates_.global_min(smallest_smoothing_length(p)), rates_.global_max(largest_sound_speed(p, phys)),
-                           phys, params_.factors),
+        stability_timestep(rates_.global_min(smallest_smoothing_length(p)), rates_.global_max(largest_viscosity(p, phys)),
+                           rates_.global_max(largest_sound_speed(p, phys)), phys, params_.factors),
         params_.dt_max);
     if (dt_next_ <= 0) dt_next_ = rates_.global_min(explicit_timestep(p, phys, params_.factors));
     save_initial_state(p);

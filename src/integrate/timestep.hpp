@@ -31,11 +31,10 @@ inline double force_timestep(double h, double a, double factor) {
   return a > 0 ? factor * std::sqrt(h / a) : std::numeric_limits<double>::infinity();
 }
 
-// Limits that keep an explicit scheme stable whatever its error control says; c_s: the sound speed
-// (where the equation of state has one).
-inline double stability_timestep(double h, double c_s, const PhysicsParams& phys, const TimestepFactors& f) {
+// Limits that keep an explicit scheme stable whatever its error control says; nu: the larger of the
+// shear and bulk viscosities, c_s: the sound speed (where the equation of state has one).
+inline double stability_timestep(double h, double nu, double c_s, const PhysicsParams& phys, const TimestepFactors& f) {
   double dt = std::numeric_limits<double>::infinity();
-  const double nu = std::max(phys.nu, phys.nu_bulk);
   if (nu > 0) dt = std::min(dt, f.viscous * h * h / nu);
   if (phys.eos != EquationOfState::None && c_s > 0) dt = std::min(dt, f.courant * h / c_s);
   return dt;
@@ -48,7 +47,8 @@ template <int D>
 double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
   const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
                              force_timestep(p.h[i], norm(p.acc[i]), f.force));
-  return std::min(dt, stability_timestep(p.h[i], sound_speed_at(phys, p.pos[i]), phys, f));
+  const double nu = std::max(shear_viscosity_at(phys, p.pos[i]), phys.nu_bulk);
+  return std::min(dt, stability_timestep(p.h[i], nu, sound_speed_at(phys, p.pos[i]), phys, f));
 }
 
 // Smallest dt_of(i) over the particles; min is exact, so it does not depend on thread count.
@@ -62,11 +62,18 @@ double explicit_timestep(const Particles<D>& p, const PhysicsParams& phys, const
   return smallest_timestep(p.size(), [&](std::size_t i) { return particle_timestep(p, i, phys, f); });
 }
 
-// The largest sound speed over the particles (the locally isothermal one is largest at small R).
+// The largest sound speed and the largest viscosity (shear or bulk) over the particles (the
+// locally isothermal c_s is largest at small R, an alpha viscosity at large R).
 template <int D>
 double largest_sound_speed(const Particles<D>& p, const PhysicsParams& phys) {
   return par::reduce(
       p.size(), 0.0, [&](std::size_t i) { return sound_speed_at(phys, p.pos[i]); },
+      [](double a, double b) { return std::max(a, b); });
+}
+template <int D>
+double largest_viscosity(const Particles<D>& p, const PhysicsParams& phys) {
+  return par::reduce(
+      p.size(), phys.nu_bulk, [&](std::size_t i) { return shear_viscosity_at(phys, p.pos[i]); },
       [](double a, double b) { return std::max(a, b); });
 }
 

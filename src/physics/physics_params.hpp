@@ -53,6 +53,7 @@ enum class GradientCorrection { None, Linear, Mixed };
 struct PhysicsParams {
   double gm = 1.0;                // G * M of the central point mass
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
+  double alpha_ss = 0.0;          // > 0: nu = alpha c_s H instead, H = c_s / Omega (shear_viscosity_at)
   double nu_bulk = 0.0;           // kinematic bulk viscosity zeta / rho (P98 eq. 2; zero in the paper)
   EquationOfState eos = EquationOfState::None;  // None: pressureless, as in the ring test (P98 5.2)
   double sound_speed = 0.0;       // c_s (isothermal), or c_s0 at R = r0 = 1 (locally isothermal)
@@ -108,6 +109,17 @@ double sound_speed_at(const PhysicsParams& p, const Vec<D>& x) {
   if (p.eos != EquationOfState::LocallyIsothermal) return p.sound_speed;
   const double R2 = x[0] * x[0] + x[1] * x[1];
   return p.sound_speed * std::pow(R2, -0.5 * p.sound_speed_index);
+}
+
+// The kinematic shear viscosity at position x: the constant nu, or with alpha_ss > 0 the
+// Shakura-Sunyaev nu = alpha c_s H with H = c_s / Omega, Omega = (G M / R^3)^(1/2) at the cylindrical
+// radius R (Phantom's irealvisc = 2; docs/physics.md sec. 1).
+template <int D>
+double shear_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
+  if (!(p.alpha_ss > 0)) return p.nu;
+  const double R2 = x[0] * x[0] + x[1] * x[1];
+  const double c = sound_speed_at(p, x);
+  return p.alpha_ss * c * c * std::sqrt(R2 * std::sqrt(R2) / p.gm);
 }
 
 // P at density rho and position x (0 without an equation of state).

@@ -81,13 +81,14 @@ Mat<D> corrected_gradient(const GradientSums<D>& g) {
   return g.V * Minv;
 }
 
+// Eq. 7 divided by rho, with the particle's shear viscosity nu (shear_viscosity_at).
 template <int D>
-Mat<D> kinematic_stress(const Mat<D>& V, const PhysicsParams& phys) {
+Mat<D> kinematic_stress(const Mat<D>& V, double nu, const PhysicsParams& phys) {
   const double div = V.trace();
   Mat<D> S;
   for (int a = 0; a < D; ++a)
-    for (int b = 0; b < D; ++b) S(a, b) = phys.nu * (V(a, b) + V(b, a));
-  for (int a = 0; a < D; ++a) S(a, a) += (phys.nu_bulk - 2.0 / 3.0 * phys.nu) * div;
+    for (int b = 0; b < D; ++b) S(a, b) = nu * (V(a, b) + V(b, a));
+  for (int a = 0; a < D; ++a) S(a, a) += (phys.nu_bulk - 2.0 / 3.0 * nu) * div;
   return S;
 }
 
@@ -103,7 +104,7 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
   // The heating reads S and C as stored, as the force loop does (in single precision: rounded),
   // so that kinetic + internal energy stay exactly conserved.
   const Mat<D> V = phys.gradient_correction == GradientCorrection::None ? g.V : corrected_gradient(used);
-  const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(V, phys));
+  const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(V, shear_viscosity_at(phys, p.pos[i]), phys));
   const bool heating = !p.du_dt.empty();  // absent without an energy equation (core/particles.hpp)
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));

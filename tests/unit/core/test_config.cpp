@@ -139,3 +139,15 @@ TEST(Config, LocallyIsothermalNeedsItsSoundSpeed) {
             std::string::npos);
   EXPECT_NE(error_of("[physics]\nsound_speed_index = 3.0\n").find("physics.sound_speed_index must be in"), std::string::npos);
 }
+
+// An alpha viscosity needs a sound speed, replaces the constant viscosity and has no viscous time.
+TEST(Config, AlphaViscosityNeedsASoundSpeedAndOutputTimes) {
+  const std::string lis = "[physics]\neos = \"locally_isothermal\"\nsound_speed = 20.0\nviscosity = 0.0\nalpha_ss = 0.01\n";
+  EXPECT_EQ(error_of(lis + "[output]\norbits = [1.0]\n"), "");
+  EXPECT_NE(error_of(lis).find("there is no viscous time tau; give output.times or output.orbits"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\nalpha_ss = 0.01\nviscosity = 0.0\n[output]\norbits = [1.0]\n").find("needs a sound speed"),
+            std::string::npos);
+  EXPECT_NE(error_of("[physics]\neos = \"isothermal\"\nsound_speed = 20.0\nalpha_ss = 0.01\n[output]\norbits = [1.0]\n")
+                .find("replaces physics.viscosity"),
+            std::string::npos);
+}

@@ -32,3 +32,22 @@ TEST(Timestep, CourantLimitFollowsTheLocalSoundSpeed) {
   phys.eos = EquationOfState::Isothermal;  // one c_s everywhere
   EXPECT_DOUBLE_EQ(particle_timestep(p, 0, phys, f), particle_timestep(p, 1, phys, f));
 }
+
+// With an alpha viscosity the viscous limit takes each particle's nu = alpha c_s^2 / Omega.
+TEST(Timestep, ViscousLimitFollowsTheLocalAlphaViscosity) {
+  Particles<2> p;
+  p.resize(1);
+  p.pos[0] = Vec<2>{{3.0, 0.0}};
+  p.h[0] = 0.02;
+  p.mass[0] = 1.0;
+  PhysicsParams phys;
+  phys.gm = 1.0;
+  phys.eos = EquationOfState::Isothermal;
+  phys.sound_speed = 0.05;
+  phys.alpha_ss = 0.1;
+  TimestepFactors f;
+  f.orbital = f.courant = 1e6;  // only the viscous limit binds
+  const double nu = 0.1 * 0.05 * 0.05 * std::pow(3.0, 1.5);
+  EXPECT_DOUBLE_EQ(particle_timestep(p, 0, phys, f), f.viscous * 0.02 * 0.02 / nu);
+  EXPECT_DOUBLE_EQ(largest_viscosity(p, phys), nu);
+}
