@@ -308,7 +308,7 @@ class BlockLeapfrog final : public Integrator<D> {
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
     // (from the h just solved for; fixed for the update, though the later evaluations solve for h anew)
     const auto plan_at = [&](std::size_t i) {
-      const double nu = std::max(shear_viscosity_at(phys, p.pos[i]), phys.nu_bulk);
+      const double nu = largest_viscosity_at(phys, p.pos[i]);
       return super_step_plan(nu > 0 ? tau(i) * nu / (limit * p.h[i] * p.h[i]) : 0.0);
     };
     par::for_each(active, [&](std::size_t i) {

@@ -47,8 +47,7 @@ template <int D>
 double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
   const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
                              force_timestep(p.h[i], norm(p.acc[i]), f.force));
-  const double nu = std::max(shear_viscosity_at(phys, p.pos[i]), phys.nu_bulk);
-  return std::min(dt, stability_timestep(p.h[i], nu, sound_speed_at(phys, p.pos[i]), phys, f));
+  return std::min(dt, stability_timestep(p.h[i], largest_viscosity_at(phys, p.pos[i]), sound_speed_at(phys, p.pos[i]), phys, f));
 }
 
 // Smallest dt_of(i) over the particles; min is exact, so it does not depend on thread count.
@@ -73,7 +72,7 @@ double largest_sound_speed(const Particles<D>& p, const PhysicsParams& phys) {
 template <int D>
 double largest_viscosity(const Particles<D>& p, const PhysicsParams& phys) {
   return par::reduce(
-      p.size(), phys.nu_bulk, [&](std::size_t i) { return shear_viscosity_at(phys, p.pos[i]); },
+      p.size(), 0.0, [&](std::size_t i) { return largest_viscosity_at(phys, p.pos[i]); },
       [](double a, double b) { return std::max(a, b); });
 }
 

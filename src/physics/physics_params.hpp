@@ -1,5 +1,6 @@
 #pragma once
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 
@@ -120,6 +121,12 @@ double shear_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
   const double R2 = x[0] * x[0] + x[1] * x[1];
   const double c = sound_speed_at(p, x);
   return p.alpha_ss * c * c * std::sqrt(R2 * std::sqrt(R2) / p.gm);
+}
+
+// The larger of the shear and bulk viscosities at x: what the viscous step limits read.
+template <int D>
+double largest_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
+  return std::max(shear_viscosity_at(p, x), p.nu_bulk);
 }
 
 // P at density rho and position x (0 without an equation of state).
