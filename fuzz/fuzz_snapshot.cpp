@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     sphdisk::RunState s;
-    sphdisk::read_checkpoint(path, s);
+    sphdisk::read_checkpoint<2>(path, s);
   } catch (const sphdisk::UserError&) {
   }
   return 0;

@@ -185,6 +185,9 @@ def draw_chosen_snapshot(run, parts, stats, profile, out_dir):
                      + ("; line: analytic ring" if stats.ring else ""), FIG_VR)]
     if parts["drift"] is None:
         run.notes.append(f"{stats.name} has no Acceleration dataset: no guiding-centre drift.")
+    if parts.get("column"):
+        run.notes.append("3D run: the particle Σ of Figs. 6 and 8 is each particle's column density seen from above "
+                         "(2D cubic spline, the particles' own h); Density in the snapshots is a volume density.")
 
 
 def draw_maps(run, images, half_width, out_dir):

@@ -25,6 +25,28 @@ def cubic_w(q):
     return 0.25 * (np.clip(2.0 - q, 0.0, None) ** 3 - 4.0 * np.clip(1.0 - q, 0.0, None) ** 3)
 
 
+def column_density_at_particles(xy, mass, h):
+    """Each particle's column density Sigma_i = sum_j m_j W(|xy_i - xy_j|, h_i), W the 2D cubic spline
+    (sigma_2 = 10 / (7 pi)) over the particles' positions seen from above: a 3D run's surface density
+    per particle (its Density is a volume density). The partners come from a k-d tree, k doubled
+    for the particles whose k-th partner is still inside 2 h_i."""
+    from scipy.spatial import cKDTree
+    tree = cKDTree(xy)
+    sigma = np.empty(len(xy))
+    todo, k = np.arange(len(xy)), 128
+    while len(todo):
+        k = min(k, len(xy))
+        short = []
+        for chunk in np.array_split(todo, len(todo) * k // CHUNK_ELEMENTS + 1):
+            d, j = tree.query(xy[chunk], k=k)
+            d, j = d.reshape(len(chunk), -1), j.reshape(len(chunk), -1)
+            sigma[chunk] = 10.0 / (7.0 * math.pi) * (cubic_w(d / h[chunk, None]) * mass[j]).sum(axis=1) / h[chunk] ** 2
+            short.append(chunk[d[:, -1] < 2.0 * h[chunk]])
+        todo = np.concatenate(short) if k < len(xy) else todo[:0]
+        k *= 2
+    return sigma
+
+
 def footprint_weights(px, py, h_pix, k):
     """Kernel weights (n, 2k+1, 2k+1) of n particles at pixel coordinates (px, py) with smoothing
     lengths h_pix (in pixels), on the pixels within k of the nearest one, and those pixels' indices."""

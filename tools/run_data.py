@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 
 from disc_profiles import guiding_centre_drift
-from report_images import extent_quantile, frame_half_width
+from report_images import column_density_at_particles, extent_quantile, frame_half_width
 from ring_model import is_ring_run
 
 PROFILE_QUANTILE = 0.999      # a disc's bins reach out to this quantile of the radii
@@ -93,7 +93,9 @@ SELF_WEIGHT_2D = {"cubic": 10 / (7 * math.pi), "wendland_c2": 7 / (4 * math.pi),
 def read_particles(path):
     """Gas particles: x-y positions, radius, radial velocity, specific angular momentum j, guiding-centre
     drift (None without Acceleration), Sigma, the self-term-free Sigma and h (None without
-    SmoothingLength) and masses."""
+    SmoothingLength) and masses. Sigma is Density in a 2D run; in a 3D run (Header
+    SimulationDimension 3), whose Density is a volume density, each particle's column density seen
+    from above with the 2D cubic spline (report_images.column_density_at_particles)."""
     with h5py.File(path, "r") as f:
         gas = f["PartType0"]
         xy, vel, acc = read_positions(f), vectors(gas, "Velocities"), vectors(gas, "Acceleration")
@@ -102,13 +104,16 @@ def read_particles(path):
         h = np.asarray(gas["SmoothingLength"][:], dtype=float) if "SmoothingLength" in gas else None
         kernel = f["Parameters"].attrs.get("sph.kernel", b"cubic") if "Parameters" in f else b"cubic"
         kernel = (kernel.decode() if isinstance(kernel, bytes) else str(kernel)).strip('"')
+        three_d = int(plain(f["Header"].attrs.get("SimulationDimension", 2))) == 3
+    if three_d and h is not None:
+        sigma, kernel = column_density_at_particles(xy, mass, h), "cubic"
     r = np.hypot(xy[:, 0], xy[:, 1])
     with np.errstate(invalid="ignore", divide="ignore"):
         vr = (xy[:, 0] * vel[:, 0] + xy[:, 1] * vel[:, 1]) / r
         noself = sigma - mass * SELF_WEIGHT_2D.get(kernel, SELF_WEIGHT_2D["cubic"]) / h**2 if h is not None else None
     return {"xy": xy, "r": r, "vr": vr, "j": xy[:, 0] * vel[:, 1] - xy[:, 1] * vel[:, 0],
             "drift": guiding_centre_drift(xy, vel, acc) if acc is not None else None,
-            "sigma": sigma, "sigma_noself": noself, "h": h, "mass": mass}
+            "sigma": sigma, "sigma_noself": noself, "h": h, "mass": mass, "column": three_d and h is not None}
 
 
 def survey(snapshots, r0):

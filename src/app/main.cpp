@@ -14,6 +14,7 @@
 #include "app/run_directory.hpp"
 #include "app/run_log.hpp"
 #include "app/simulation.hpp"
+#include "app/disc_plane.hpp"
 #include "app/disc_profiles.hpp"
 #include "app/sweep.hpp"
 #include "core/build_info.hpp"
@@ -33,8 +34,10 @@ namespace {
 // The comparison with the analytic ring; at the end of a run also into its run.log.
 int cmd_analyze(const std::string& path, const std::string& json_path, int bins) {
   sphdisk::SnapshotMeta meta;
-  // Kept in the file's own code units, in which the ring header values are given.
-  const auto p = sphdisk::read_snapshot<2>(path, nullptr, meta);
+  // Kept in the file's own code units, in which the ring header values are given; a 3D run's
+  // particles seen from above (vertically integrated by the radial bins).
+  const auto p = sphdisk::snapshot_dimension(path) == 3 ? sphdisk::seen_from_above(sphdisk::read_snapshot<3>(path, nullptr, meta))
+                                                        : sphdisk::read_snapshot<2>(path, nullptr, meta);
   // The ring against its analytic solution; any other disc as radial profiles.
   std::string table, json;
   if (sphdisk::is_ring_snapshot(meta)) {

@@ -37,6 +37,7 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   c.particles = p.size();
   c.accreted_mass = meta.accreted_mass;
   c.initial_mass = meta.disc_mass;
+  c.sph_sigma = meta.dimension == 2;
   const double r0 = meta.ring_radius;
   const double width = (r_max - r_min) * r0 / nbins;
   c.bins.resize(static_cast<std::size_t>(nbins));
@@ -55,12 +56,12 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
     c.mass += p.mass[i];
     const double s_ana = sol.surface_density(r, c.tau);
     const double noself = p.rho[i] - p.mass[i] * w0 / (p.h[i] * p.h[i]);
-    if (s_ana > 0.01 * peak) {
+    if (s_ana > 0.01 * peak && c.sph_sigma) {
       const double d = p.rho[i] / s_ana - 1.0;
       sq += d * d;
       ++nsq;
     }
-    if (std::abs(r / r0 - 1.0) <= 0.1) {
+    if (std::abs(r / r0 - 1.0) <= 0.1 && c.sph_sigma) {
       core += p.rho[i] / s_ana - 1.0;
       core_noself += noself / s_ana - 1.0;
       ++ncore;
@@ -70,8 +71,8 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
     RingBin& bin = c.bins[static_cast<std::size_t>(fb)];
     const RadialMotion motion = radial_motion(p, i, 1.0);  // G M = 1 in the file's code units
     ++bin.count;
-    bin.sigma_sph += p.rho[i];
-    bin.sigma_noself += noself;
+    bin.sigma_sph += c.sph_sigma ? p.rho[i] : 0.0;
+    bin.sigma_noself += c.sph_sigma ? noself : 0.0;
     bin.sigma_ana += s_ana;
     bin.vr_sph += motion.vr;
     bin.vr_ana += sol.radial_velocity(r, c.tau);
@@ -204,34 +205,55 @@ std::string ring_comparison_table(const RingComparison& c) {
   os << "#   r_lo     r_hi   count    Sigma_sph    Sigma_ana  rel.err   Sigma_mass Sigma_ann  rel.err      v_r_sph  v_r_drift      v_r_ana\n";
   for (const RingBin& b : c.bins) {
     if (b.count == 0) continue;
-    std::snprintf(line, sizeof line, "%8.4f %8.4f %7zu %12.5e %12.5e %8.4f %12.5e %9.3e %8.4f %12.5e %10.3e %12.5e\n",
-                  b.r_lo, b.r_hi, b.count, b.sigma_sph, b.sigma_ana, b.sigma_ana > 0 ? b.sigma_sph / b.sigma_ana - 1 : 0.0,
+    char sph[64] = "           -            -        -";  // 3D: Density is a volume density
+    if (c.sph_sigma)
+      std::snprintf(sph, sizeof sph, "%12.5e %12.5e %8.4f", b.sigma_sph, b.sigma_ana, b.sigma_ana > 0 ? b.sigma_sph / b.sigma_ana - 1 : 0.0);
+    std::snprintf(line, sizeof line, "%8.4f %8.4f %7zu %s %12.5e %9.3e %8.4f %12.5e %10.3e %12.5e\n", b.r_lo, b.r_hi, b.count, sph,
                   b.sigma_mass, b.sigma_ana_annulus, b.sigma_ana_annulus > 0 ? b.sigma_mass / b.sigma_ana_annulus - 1 : 0.0,
                   b.vr_sph, b.vr_drift, b.vr_ana);
     os << line;
   }
-  std::snprintf(line, sizeof line,
-                "L1 error of binned guiding-centre drift v_r: %.4f\n"
-                "L1 error of binned particle Sigma (SPH estimate, P98 Fig. 8): %.4f; in the core (0.9-1.1 r0) %+.1f%%, "
-                "%+.1f%% without the self term m W(0, h), which pressureless, unordered particles never offset\n"
-                "L1 error of binned v_r (particles' own, with their epicycles; |v_r| >= 20%% of max): %.4f\n"
-                "per-particle Sigma scatter (rms relative): %.4f\n",
-                c.vr_drift_l1, c.sigma_l1, 100 * c.core_sigma_bias, 100 * c.core_sigma_noself_bias, c.vr_l1, c.sigma_scatter);
+  std::snprintf(line, sizeof line, "L1 error of binned guiding-centre drift v_r: %.4f\n", c.vr_drift_l1);
   os << line;
+  if (c.sph_sigma)
+    std::snprintf(line, sizeof line,
+                  "L1 error of binned particle Sigma (SPH estimate, P98 Fig. 8): %.4f; in the core (0.9-1.1 r0) %+.1f%%, "
+                  "%+.1f%% without the self term m W(0, h), which pressureless, unordered particles never offset\n",
+                  c.sigma_l1, 100 * c.core_sigma_bias, 100 * c.core_sigma_noself_bias);
+  else
+    std::snprintf(line, sizeof line,
+                  "particle Sigma (SPH estimate, P98 Fig. 8): none in 3D, where Density is a volume density; the annulus "
+                  "mass above is the vertically integrated Sigma\n");
+  os << line;
+  std::snprintf(line, sizeof line, "L1 error of binned v_r (particles' own, with their epicycles; |v_r| >= 20%% of max): %.4f\n",
+                c.vr_l1);
+  os << line;
+  if (c.sph_sigma) {
+    std::snprintf(line, sizeof line, "per-particle Sigma scatter (rms relative): %.4f\n", c.sigma_scatter);
+    os << line;
+  }
   return os.str();
 }
 
 std::string ring_comparison_json(const RingComparison& c) {
   std::ostringstream os;
   os.precision(10);
+  // The SPH Sigma measures as numbers, or null where Density is no surface density (3D).
+  auto sph = [&](double v) {
+    std::ostringstream one;
+    one.precision(10);
+    if (c.sph_sigma) one << v;
+    else one << "null";
+    return one.str();
+  };
   os << "{\n  \"tau\": " << c.tau << ",\n  \"particles\": " << c.particles << ",\n  \"mass\": " << c.mass
-     << ",\n  \"accreted_mass\": " << c.accreted_mass << ",\n  \"initial_mass\": " << c.initial_mass << ",\n  \"sigma_l1\": " << c.sigma_l1
+     << ",\n  \"accreted_mass\": " << c.accreted_mass << ",\n  \"initial_mass\": " << c.initial_mass << ",\n  \"sigma_l1\": " << sph(c.sigma_l1)
      << ",\n  \"mass_sigma_l1\": " << c.mass_sigma_l1 << ",\n  \"sampling_floor\": " << c.sampling_floor
      << ",\n  \"tau_fit\": " << c.tau_fit << ",\n  \"mass_sigma_l1_at_fit\": " << c.mass_sigma_l1_at_fit
      << ",\n  \"vr_l1\": " << c.vr_l1
-     << ",\n  \"vr_drift_l1\": " << c.vr_drift_l1 << ",\n  \"sigma_scatter\": " << c.sigma_scatter
-     << ",\n  \"core_sigma_bias\": " << c.core_sigma_bias << ",\n  \"core_sigma_noself_bias\": " << c.core_sigma_noself_bias
-     << ",\n  \"regions\": [";
+     << ",\n  \"vr_drift_l1\": " << c.vr_drift_l1 << ",\n  \"sigma_scatter\": " << sph(c.sigma_scatter)
+     << ",\n  \"core_sigma_bias\": " << sph(c.core_sigma_bias) << ",\n  \"core_sigma_noself_bias\": " << sph(c.core_sigma_noself_bias)
+     << ",\n  \"dimension\": " << (c.sph_sigma ? 2 : 3) << ",\n  \"regions\": [";
   for (const RegionL1& region : c.regions)
     os << (&region == &c.regions.front() ? "\n" : ",\n") << "    {\"name\": \"" << region.name << "\", \"r_lo\": " << region.lo
        << ", \"r_hi\": " << (std::isinf(region.hi) ? -1.0 : region.hi) << ", \"mass_sigma_l1\": " << region.l1
@@ -240,7 +262,7 @@ std::string ring_comparison_json(const RingComparison& c) {
   bool first = true;
   for (const RingBin& b : c.bins) {
     os << (first ? "\n" : ",\n") << "    {\"r_lo\": " << b.r_lo << ", \"r_hi\": " << b.r_hi << ", \"count\": " << b.count
-       << ", \"sigma_sph\": " << b.sigma_sph << ", \"sigma_noself\": " << b.sigma_noself << ", \"sigma_ana\": " << b.sigma_ana << ", \"vr_sph\": " << b.vr_sph
+       << ", \"sigma_sph\": " << sph(b.sigma_sph) << ", \"sigma_noself\": " << sph(b.sigma_noself) << ", \"sigma_ana\": " << sph(b.sigma_ana) << ", \"vr_sph\": " << b.vr_sph
        << ", \"vr_ana\": " << b.vr_ana << ", \"vr_drift\": " << b.vr_drift << ", \"sigma_mass\": " << b.sigma_mass
        << ", \"sigma_ana_annulus\": " << b.sigma_ana_annulus << "}";
     first = false;

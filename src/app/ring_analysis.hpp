@@ -52,6 +52,9 @@ struct RingComparison {
   // front or a deficit lies, against where the sampling noise alone would put the error.
   std::vector<RegionL1> regions{
       {"inner wing", 0.0, 0.5}, {"core", 0.5, 1.5}, {"outer wing", 1.5, std::numeric_limits<double>::infinity()}};
+  bool sph_sigma = true;       // the particles' Density is a surface density (2D runs): the SPH Sigma
+                               // measures (sigma_l1, sigma_scatter, the core biases, the bins'
+                               // sigma_sph, sigma_noself, sigma_ana) are filled in; 3D runs: not
   double sigma_scatter = 0;    // rms of Sigma_i / Sigma_ana(r_i) - 1 over particles with Sigma_ana > 1% of peak
   double core_sigma_bias = 0;  // mean Sigma_i / Sigma_ana(r_i) - 1 over particles with 0.9 <= r / r0 <= 1.1
   double core_sigma_noself_bias = 0;  // the same for Sigma without its self term

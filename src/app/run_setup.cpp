@@ -31,7 +31,8 @@ Setup make_setup(const Config& cfg) {
   s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
   s.phys.alpha_ss = cfg.alpha_ss;
   s.phys.eos = eos_from_name(cfg.eos);
-  s.phys.sound_speed = cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
+  // c_s at r0: given in km/s, or as H/R = c_s / v_Kepler(r0) with v_Kepler(r0) = 1 in code units.
+  s.phys.sound_speed = cfg.aspect_ratio > 0 ? cfg.aspect_ratio : cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
   s.phys.sound_speed_index = cfg.sound_speed_index;
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.gradient_correction = gradient_correction_from_name(cfg.gradient_correction);
@@ -46,6 +47,10 @@ Setup make_setup(const Config& cfg) {
   s.ring.seed = static_cast<std::uint64_t>(cfg.seed);
   s.ring.stratified = placement_from_name(cfg.placement) == Placement::Stratified;
   s.ring.accretion_radius = cfg.accretion_radius;
+  if (s.phys.eos != EquationOfState::None) {
+    s.ring.sound_speed = s.phys.sound_speed;
+    s.ring.sound_speed_index = s.phys.eos == EquationOfState::LocallyIsothermal ? cfg.sound_speed_index : 0.0;
+  }
   s.tau_rate = 12.0 * s.phys.nu;
   return s;
 }

@@ -39,7 +39,7 @@ long long reorder_interval(const Config& cfg) {
 }
 // Counts SIGTERM / SIGINT: after the first the run checkpoints and stops when the current step
 // ends, or inside a long step (a block cycle) at its next substep; a second one inside such a step
-// before then abandons it unsaved (Runner::between_substeps).
+// before then abandons it unsaved (Runner<D>::between_substeps).
 volatile std::sig_atomic_t g_stop_signals = 0;
 extern "C" void on_stop_signal(int) { g_stop_signals = g_stop_signals + 1; }
 
@@ -51,7 +51,8 @@ struct StepLeft {
 
 }  // namespace
 
-Runner::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Particles<kRunDim> p, RunState state)
+template <int D>
+Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Particles<D> p, RunState state)
     : cfg_(cfg), opts_(opts), dir_(std::move(dir)), setup_(make_setup(cfg)), p_(std::move(p)), s_(std::move(state)),
       rates_(kernel_from_name(cfg.kernel), s_.smoothing_length, setup_.phys, timers_, smoothing_from_name(cfg.smoothing),
              cfg.neighbours) {
@@ -62,7 +63,7 @@ Runner::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Parti
   if (cfg.dt_max > 0) ip.dt_max = cfg.dt_max;
   ip.viscous_update = viscous_update_from_name(cfg.resolved_viscous_update());
   ip.max_stages = cfg.max_stages;
-  integrator_ = make_integrator<kRunDim>(ip, rates_);
+  integrator_ = make_integrator<D>(ip, rates_);
   p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction(),
                                        setup_.phys.keeps_correction_shift()));
   integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
@@ -82,7 +83,8 @@ Runner::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Parti
   trace_origin_us_ = par::trace_now_us();
 }
 
-void Runner::start() {
+template <int D>
+void Runner<D>::start() {
   accrete_all();
   if (global_count() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
   rebalance();
@@ -95,7 +97,8 @@ void Runner::start() {
   diagnostics_row(0.0);
 }
 
-void Runner::restart() {
+template <int D>
+void Runner<D>::restart() {
   rebalance();
   if (s_.step_state) {
     integrator_->resume_inside_step(s_.integrator);
@@ -121,7 +124,8 @@ void Runner::restart() {
   open_diagnostics();
 }
 
-void Runner::accrete_all() {
+template <int D>
+void Runner<D>::accrete_all() {
   std::vector<AccretedParticle> all = accrete(p_, setup_.phys.accretion_radius);
   if (distributed()) {
     const auto* mine = reinterpret_cast<const std::byte*>(all.data());
@@ -140,7 +144,8 @@ void Runner::accrete_all() {
   }
 }
 
-void Runner::open_diagnostics() {
+template <int D>
+void Runner<D>::open_diagnostics() {
   if (!root()) return;
   const std::string path = (fs::path(dir_) / kDiagnosticsName).string();
   const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
@@ -150,7 +155,8 @@ void Runner::open_diagnostics() {
   csv_.precision(17);
 }
 
-void Runner::write_output(std::size_t k) {
+template <int D>
+void Runner<D>::write_output(std::size_t k) {
   ScopedPhase timer(timers_, "io");
   meta_.time = s_.time;
   meta_.tau = setup_.tau_of_time(s_.time);
@@ -161,7 +167,8 @@ void Runner::write_output(std::size_t k) {
   last_output_step_ = s_.step;
 }
 
-void Runner::check_finite_or_dump() {
+template <int D>
+void Runner<D>::check_finite_or_dump() {
   const std::string bad = find_non_finite(p_, s_.step);
   if (!domain_.any(!bad.empty())) return;
   const std::string dump = (fs::path(dir_) / ("debug_step_" + std::to_string(s_.step) + ".hdf5")).string();
@@ -171,7 +178,8 @@ void Runner::check_finite_or_dump() {
                        ", last good checkpoint kept; reduce the timestep factors or check the set-up");
 }
 
-void Runner::write_checkpoint_now() {
+template <int D>
+void Runner<D>::write_checkpoint_now() {
   ScopedPhase timer(timers_, "io");
   s_.step_state = integrator_->inside_step();
   s_.integrator = s_.step_state ? integrator_->step_state() : integrator_->state();
@@ -182,7 +190,8 @@ void Runner::write_checkpoint_now() {
   last_checkpoint_step_ = s_.step;
 }
 
-void Runner::diagnostics_row(double dt) {
+template <int D>
+void Runner<D>::diagnostics_row(double dt) {
   ScopedPhase timer(timers_, "diagnostics");
   GlobalSums g = global_sums(p_, cfg_.evolve_energy);
   const std::size_t n = global_count();
@@ -197,7 +206,8 @@ void Runner::diagnostics_row(double dt) {
        << g.angular_momentum << ',' << s_.accreted_angular_momentum << ',' << wall() << '\n';
 }
 
-std::string Runner::ranks_json() const {
+template <int D>
+std::string Runner<D>::ranks_json() const {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   std::ostringstream os;
@@ -225,7 +235,8 @@ std::string Runner::ranks_json() const {
   return out + "]\n";
 }
 
-void Runner::progress(long long step, double time, double dt, double within, std::size_t in_step) {
+template <int D>
+void Runner<D>::progress(long long step, double time, double dt, double within, std::size_t in_step) {
   const auto now = Clock::now();
   if (!root() || cfg_.progress_interval <= 0 ||
       std::chrono::duration<double>(now - last_progress_).count() < cfg_.progress_interval)
@@ -240,7 +251,8 @@ void Runner::progress(long long step, double time, double dt, double within, std
                  run_log::format_duration(frac > 0 ? wall() * (1 - frac) / frac : 0).c_str(), inside);
 }
 
-void Runner::between_substeps(double done, double length) {
+template <int D>
+void Runner<D>::between_substeps(double done, double length) {
   ++substeps_;
   if (substeps_ == cfg_.inject_interrupt_at_substep)
     for (long long k = 0; k < cfg_.inject_interrupts; ++k) std::raise(SIGINT);
@@ -264,7 +276,8 @@ void Runner::between_substeps(double done, double length) {
   progress(s_.step + 1, s_.time + done, length, done / length, in_step);
 }
 
-RunSummary Runner::advance() {
+template <int D>
+RunSummary Runner<D>::advance() {
   const long long steps_before = s_.step;
   advance_.t_begin = s_.time;
   advance_.updates = 0;
@@ -394,5 +407,8 @@ void apply_run_options(const Config& cfg, const RunOptions& opts) {
   g_stop_signals = 0;
 }
 
+
+template class Runner<2>;
+template class Runner<3>;
 
 }  // namespace sphdisk

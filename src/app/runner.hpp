@@ -23,17 +23,17 @@
 
 namespace sphdisk {
 
-inline constexpr int kRunDim = 2;  // the ring is 2D (config check rejects others for now)
-
 // The run's threads, vector instructions and trace as the configuration and options ask; clears
 // the count of stop signals heard.
 void apply_run_options(const Config& cfg, const RunOptions& opts);
 
+// D: the run's dimension (sph.dimension), 2 or 3.
+template <int D>
 class Runner {
  public:
   using Clock = std::chrono::steady_clock;
 
-  Runner(const Config& cfg, const RunOptions& opts, std::string dir, Particles<kRunDim> p, RunState state);
+  Runner(const Config& cfg, const RunOptions& opts, std::string dir, Particles<D> p, RunState state);
 
   // A fresh run: rates of the initial state, snapshot_000, first diagnostics row.
   void start();
@@ -113,12 +113,12 @@ class Runner {
   const RunOptions& opts_;
   std::string dir_;
   Setup setup_;
-  Particles<kRunDim> p_;
+  Particles<D> p_;
   RunState s_;
   PhaseTimers timers_;
-  DistributedDomain<kRunDim> domain_{opts_.one_process ? Communicator::self() : Communicator::world(), cfg_.rebalance_threshold};
-  RateEvaluator<kRunDim> rates_;
-  std::unique_ptr<Integrator<kRunDim>> integrator_;
+  DistributedDomain<D> domain_{opts_.one_process ? Communicator::self() : Communicator::world(), cfg_.rebalance_threshold};
+  RateEvaluator<D> rates_;
+  std::unique_ptr<Integrator<D>> integrator_;
   std::vector<double> t_out_;
   SnapshotMeta meta_;
   std::ofstream csv_;

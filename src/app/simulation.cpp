@@ -37,11 +37,12 @@ void warn_if_threads_share_cpus(const Communicator& comm, const RunOptions& opts
 // The global h giving `neighbours` neighbours on average over all ranks' particles. Over ranks the
 // particles are first sent to their owners (compact regions, few ghosts); the decomposition's
 // lattice only groups particles, so its smallest cell size is immaterial (make_lattice widens it).
-double calibrated_smoothing_length(const Communicator& comm, Particles<kRunDim>& p, double neighbours) {
+template <int D>
+double calibrated_smoothing_length(const Communicator& comm, Particles<D>& p, double neighbours) {
   if (comm.size() == 1) return calibrate_smoothing_length(p, neighbours);
-  DistributedDomain<kRunDim> domain(comm);
+  DistributedDomain<D> domain(comm);
   domain.rebalance(p, std::numeric_limits<double>::min());
-  return calibrate_smoothing_length<kRunDim>(p, neighbours, &domain);
+  return calibrate_smoothing_length<D>(p, neighbours, &domain);
 }
 
 std::string interruption_note(const RunSummary& s) {
@@ -54,18 +55,13 @@ std::string interruption_note(const RunSummary& s) {
          " with: sphdisk resume " + s.output_dir;
 }
 
-RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
-  apply_run_options(cfg, opts);
-  const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
-  const Setup setup = make_setup(cfg);
-  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, smoothing_from_name(cfg.smoothing) == Smoothing::Adaptive);
-  // Runs without stored lists are those that would not fit otherwise: from the first array on,
-  // large ones go back to the system when freed (stored lists keep theirs, and fresh pages would
-  // cost them page faults).
-  if (pair_storage_from_name(cfg.pair_lists) == PairStorage::Rescan) map_large_allocations(std::size_t{1} << 20);
+namespace {
 
+// A fresh run in D dimensions (sph.dimension), from the ring set-up or a user's file.
+template <int D>
+RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& dir, const Setup& setup) {
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
-  Particles<kRunDim> p;
+  Particles<D> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
     if (!fs::exists(cfg.initial_conditions))
@@ -75,24 +71,24 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     // Each rank reads 1/P of the file's rows; the decomposition then sends each to its owner.
     SnapshotMeta meta;
     const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};
-    run_collectively(comm, [&] { p = read_snapshot<kRunDim>(cfg.initial_conditions, &setup.units, meta, share); });
+    run_collectively(comm, [&] { p = read_snapshot<D>(cfg.initial_conditions, &setup.units, meta, share); });
     if (!ids_unique(comm, p.id)) throw UserError("'" + cfg.initial_conditions + "': ParticleIDs are not unique");
     state.time = meta.time;
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
   } else {
-    p = make_ring(setup.ring, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
+    p = make_ring<D>(setup.ring, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
     state.time = setup.time_of_tau(cfg.tau_start);
   }
   if (output_times(cfg, setup).back() <= state.time)
     throw UserError("every output time is at or before the initial time (t = " + std::to_string(state.time) + ", tau = " +
                     std::to_string(setup.tau_of_time(state.time)) + "); give output times after it");
-  // h: given, or from the target mean neighbour number (analytically for the ring, measured on
-  // the particles for a user's file). Constant smoothing keeps it for all particles and times
-  // (P98 sec. 5.3); adaptive smoothing starts its per-particle solve from it.
-  state.smoothing_length = cfg.smoothing_length > 0         ? cfg.smoothing_length
-                           : cfg.initial_conditions.empty() ? ring_smoothing_length(setup.ring, cfg.neighbours)
-                                                            : calibrated_smoothing_length(comm, p, cfg.neighbours);
+  // h: given, or from the target mean neighbour number (analytically for the 2D ring, measured on
+  // the particles otherwise). Constant smoothing keeps it for all particles and times (P98 sec.
+  // 5.3); adaptive smoothing starts its per-particle solve from it.
+  state.smoothing_length = cfg.smoothing_length > 0                     ? cfg.smoothing_length
+                           : cfg.initial_conditions.empty() && D == 2 ? ring_smoothing_length(setup.ring, cfg.neighbours)
+                                                                        : calibrated_smoothing_length(comm, p, cfg.neighbours);
   for (auto& hi : p.h) hi = state.smoothing_length;
   state.config_toml = cfg.resolved_toml;
 
@@ -105,18 +101,34 @@ RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
     run_log::write(run_log::header("run", opts.command_line, comm.size(), par::max_threads()));
   });
   warn_if_threads_share_cpus(comm, opts);
-  Runner runner(cfg, opts, dir, std::move(p), std::move(state));
+  Runner<D> runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.start();
   return runner.advance();
 }
 
-RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, const std::vector<std::string>& overrides) {
-  const std::string path = (fs::path(dir) / kCheckpointName).string();
-  if (!fs::exists(path))
-    throw UserError("no checkpoint in '" + dir + "' (expected " + kCheckpointName + "); start the run again with sphdisk run");
+}  // namespace
+
+RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
+  apply_run_options(cfg, opts);
+  const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
+  const Setup setup = make_setup(cfg);
+  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, smoothing_from_name(cfg.smoothing) == Smoothing::Adaptive);
+  // Runs without stored lists are those that would not fit otherwise: from the first array on,
+  // large ones go back to the system when freed (stored lists keep theirs, and fresh pages would
+  // cost them page faults).
+  if (pair_storage_from_name(cfg.pair_lists) == PairStorage::Rescan) map_large_allocations(std::size_t{1} << 20);
+
+  return cfg.dimension == 3 ? run_in<3>(cfg, opts, dir, setup) : run_in<2>(cfg, opts, dir, setup);
+}
+
+namespace {
+
+template <int D>
+RunSummary resume_in(const std::string& path, const std::string& dir, const RunOptions& opts,
+                     const std::vector<std::string>& overrides) {
   RunState state;
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
-  Particles<kRunDim> p = read_checkpoint(path, state, comm);
+  Particles<D> p = read_checkpoint<D>(path, state, comm);
   // A checkpoint records every key; one written before a key existed, or before its default
   // changed, continues with what it ran then (unless the user overrides it): eq. 6's conservative
   // form, the summed densities' ratio, and the leapfrog on stored lists.
@@ -128,6 +140,8 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
     if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);
   const Config cfg = parse_config(state.config_toml, path, all_overrides);
+  if (cfg.dimension != D)
+    throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
   // Later checkpoints record what this run continues with, overrides included, so that a second
   // resume keeps them.
   state.config_toml = cfg.resolved_toml;
@@ -140,9 +154,18 @@ RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, con
     run_log::write(run_log::header(what, opts.command_line, comm.size(), par::max_threads()));
   });
   warn_if_threads_share_cpus(comm, opts);
-  Runner runner(cfg, opts, dir, std::move(p), std::move(state));
+  Runner<D> runner(cfg, opts, dir, std::move(p), std::move(state));
   runner.restart();
   return runner.advance();
+}
+
+}  // namespace
+
+RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, const std::vector<std::string>& overrides) {
+  const std::string path = (fs::path(dir) / kCheckpointName).string();
+  if (!fs::exists(path))
+    throw UserError("no checkpoint in '" + dir + "' (expected " + kCheckpointName + "); start the run again with sphdisk run");
+  return checkpoint_dimension(path) == 3 ? resume_in<3>(path, dir, opts, overrides) : resume_in<2>(path, dir, opts, overrides);
 }
 
 }  // namespace sphdisk

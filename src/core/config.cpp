@@ -173,6 +173,7 @@ const std::vector<KeyDef>& schema() {
       float_key("physics.bulk_viscosity", &Config::bulk_viscosity, non_negative(), "kinematic bulk viscosity zeta/rho in solar radii^2 / s"),
       string_key("physics.eos", &Config::eos, {"none", "isothermal", "locally_isothermal"}, "equation of state: none (pressureless, as in the ring test), isothermal (P = c_s^2 rho), locally_isothermal (P = c_s(R)^2 rho, c_s(R) = physics.sound_speed (R / r0)^-physics.sound_speed_index, R the cylindrical radius: Phantom's ieos = 3)"),
       float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
+      float_key("physics.aspect_ratio", &Config::aspect_ratio, in_range(0, 1), "H/R = c_s / v_Kepler at R = r0, instead of physics.sound_speed (which is then 0): the thickness a locally isothermal or isothermal disc has in vertical equilibrium; 0: physics.sound_speed is given"),
       float_key("physics.sound_speed_index", &Config::sound_speed_index, in_range(-2, 2), "locally_isothermal: q of c_s(R) = c_s (R / r0)^-q (Phantom's qfacdisc; 0.25 for its test disc)"),
       bool_key("physics.evolve_energy", &Config::evolve_energy, "integrate the internal energy (viscous heating)"),
       float_key("physics.accretion_radius", &Config::accretion_radius, non_negative(), "accretion radius in units of ring_radius"),
@@ -366,10 +367,15 @@ void check_consistency(const Config& c) {
     throw UserError("config: physics.alpha_ss > 0 replaces physics.viscosity; set physics.viscosity = 0");
   if (c.alpha_ss > 0 && c.output_times.empty() && c.output_orbits.empty())
     throw UserError("config: with physics.alpha_ss > 0 there is no viscous time tau; give output.times or output.orbits");
-  if (c.eos != "none" && c.sound_speed <= 0)
-    throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s)");
-  if (c.dimension != 2)
-    throw UserError("config: sph.dimension = 3 is not available for the ring set-up yet; use 2");
+  if (c.sound_speed > 0 && c.aspect_ratio > 0)
+    throw UserError("config: give the sound speed once: physics.sound_speed (km/s) or physics.aspect_ratio (H/R at r0), not both");
+  if (c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0)
+    throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s) or physics.aspect_ratio > 0 (H/R at r0)");
+  if (c.eos == "none" && c.aspect_ratio > 0)
+    throw UserError("config: physics.aspect_ratio sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
+  if (c.dimension == 3 && c.eos == "none" && c.initial_conditions.empty())
+    throw UserError("config: sph.dimension = 3 needs pressure to hold the disc up: set physics.eos = \"locally_isothermal\" and "
+                    "physics.aspect_ratio (H/R at r0, e.g. 0.05)");
   if (c.output_dir.empty()) throw UserError("config: output.dir must not be empty");
   if (c.force_correction && c.resolved_viscous_force() != "conservative")
     throw UserError("config: sph.force_correction = true corrects the conservative form of eq. 6; add "

@@ -17,7 +17,6 @@ namespace sphdisk {
 
 namespace {
 
-constexpr int kDim = 2;
 // Format 1 (before 2026-11-29): one FNV-1a hash run over all fields in order; no longer read
 // (docs/design.md, "Modes kept and retired"), refused with a one-line error.
 // Format 2: the row-sum checksum below, which ranks can compute on their own rows.
@@ -111,8 +110,9 @@ void for_each_checkpoint_field(P& p, const RunState& s, F&& f) {
 
 }  // namespace
 
+template <int D>
 void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
-                            const Particles<2>& p, const RunState& s) {
+                            const Particles<D>& p, const RunState& s) {
   std::uint64_t sum = 0;
   for_each_checkpoint_field(p, s, [&](const FieldInfo&, const auto& field, std::size_t f) {
     sum += row_sum(f, first_row, field);
@@ -121,7 +121,7 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
   write_hdf5_atomically(path, comm, [&](hid_t file, hid_t transfer) {
     h5::Handle g = h5::create_group(file, "Checkpoint");
     h5::write_attr(g, "FormatVersion", kFormatVersion);
-    h5::write_attr(g, "Dimension", static_cast<long long>(kDim));
+    h5::write_attr(g, "Dimension", static_cast<long long>(D));
     h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 1LL : 0LL);
     h5::write_attr(g, "CodeVersion", std::string(code_version()));  // for the record; not checked on resume
     h5::write_attr(g, "Time", s.time);
@@ -156,28 +156,32 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
   });
 }
 
-void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s) {
+template <int D>
+void write_checkpoint(const std::string& path, const Particles<D>& p, const RunState& s) {
   write_checkpoint_share(path, Communicator::self(), p.size(), 0, p, s);
 }
 
 namespace {
 
+template <int D>
 struct ReadShare {
-  Particles<2> particles;
+  Particles<D> particles;
   long long version = 0;
   std::uint64_t sum = 0;  // format 2: this share's row sum
   std::string checksum;   // as stored
 };
 
-ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::RowShare share) {
+template <int D>
+ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5::RowShare share) {
   h5::Handle file = h5::open_file_readonly(path);
   h5::Handle g = h5::open_group(file, "Checkpoint", path);
   auto num = [&](const char* name) { return h5::read_attr_double(g, name, path); };
-  ReadShare out;
+  ReadShare<D> out;
   const double version = num("FormatVersion");  // compared as stored: a corrupt value may be NaN
   const bool known = version >= 1 && version <= static_cast<double>(kFormatVersion) && version == std::floor(version);
-  if (!known || num("Dimension") != kDim)
-    throw UserError("'" + path + "' is a checkpoint of another format version or dimension");
+  if (!known) throw UserError("'" + path + "' is a checkpoint of another format version");
+  if (num("Dimension") != D)
+    throw UserError("'" + path + "' is a checkpoint of a run in another dimension than " + std::to_string(D) + "D");
   out.version = static_cast<long long>(version);
   if (out.version < kOldestFormatRead)
     throw UserError("'" + path + "' is a checkpoint of format " + std::to_string(out.version) +
@@ -226,7 +230,7 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
   std::size_t n = 0;
   const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
-  Particles<2>& p = out.particles;
+  Particles<D>& p = out.particles;
   // Files before format 7 never hold the mixed correction's shift.
   p.set_absent_fields(static_cast<unsigned>(absent) | (out.version < 7 ? unsigned{kMixedCorrectionOnly} : 0u));
   p.resize(rows_read);
@@ -260,19 +264,40 @@ ReadShare read_checkpoint_unisolated(const std::string& path, RunState& s, h5::R
 
 }  // namespace
 
-Particles<2> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm) {
+int checkpoint_dimension(const std::string& path) {
+  auto read = [&] {
+    h5::Handle file = h5::open_file_readonly(path);
+    h5::Handle g = h5::open_group(file, "Checkpoint", path);
+    const double d = h5::read_attr_double(g, "Dimension", path);
+    if (d != 2 && d != 3) throw UserError("'" + path + "': checkpoint attribute 'Dimension' is not 2 or 3 (corrupt file?)");
+    return static_cast<int>(d);
+  };
+  return h5::read_isolated(path, read);
+}
+
+template <int D>
+Particles<D> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm) {
   const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};
-  ReadShare got;
+  ReadShare<D> got;
   run_collectively(comm, [&] {
     h5::isolate_library_crashes(path, [&] {
       RunState tmp;
-      read_checkpoint_unisolated(path, tmp, share);
+      read_checkpoint_unisolated<D>(path, tmp, share);
     });
-    got = read_checkpoint_unisolated(path, s, share);
+    got = read_checkpoint_unisolated<D>(path, s, share);
   });
   if (std::to_string(comm.sum(got.sum) + state_hash(s)) != got.checksum)
     throw UserError("checkpoint '" + path + "' is corrupt (checksum mismatch); use an earlier copy or restart the run");
   return std::move(got.particles);
 }
+
+template void write_checkpoint_share(const std::string&, const Communicator&, std::size_t, std::size_t, const Particles<2>&,
+                                     const RunState&);
+template void write_checkpoint_share(const std::string&, const Communicator&, std::size_t, std::size_t, const Particles<3>&,
+                                     const RunState&);
+template void write_checkpoint(const std::string&, const Particles<2>&, const RunState&);
+template void write_checkpoint(const std::string&, const Particles<3>&, const RunState&);
+template Particles<2> read_checkpoint(const std::string&, RunState&, const Communicator&);
+template Particles<3> read_checkpoint(const std::string&, RunState&, const Communicator&);
 
 }  // namespace sphdisk

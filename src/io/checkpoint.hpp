@@ -38,16 +38,22 @@ inline unsigned checkpoint_field_flags(const RunState& s) {
   return kCheckpoint | (s.rate_state ? kRateState : 0u) | (s.step_state ? kStepState : 0u);
 }
 
-void write_checkpoint(const std::string& path, const Particles<2>& p, const RunState& s);
+template <int D>
+void write_checkpoint(const std::string& path, const Particles<D>& p, const RunState& s);
 
 // One checkpoint written by all ranks of comm together (collective): this rank's particles are rows
 // [first_row, first_row + p.size()) of the file's n.
+template <int D>
 void write_checkpoint_share(const std::string& path, const Communicator& comm, std::size_t n, std::size_t first_row,
-                            const Particles<2>& p, const RunState& s);
+                            const Particles<D>& p, const RunState& s);
 
 // Reads a checkpoint; on P ranks each rank reads share {rank, P} of the particles (1/P of the
 // rows; collective: the checksum is checked over all shares). Throws UserError on every rank if
 // the file is missing, truncated, corrupt (checksum) or not a checkpoint.
-Particles<2> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm = Communicator::self());
+template <int D>
+Particles<D> read_checkpoint(const std::string& path, RunState& s, const Communicator& comm = Communicator::self());
+
+// The run's dimension (2 or 3) that a checkpoint records, so that it is read into particles of it.
+int checkpoint_dimension(const std::string& path);
 
 }  // namespace sphdisk

@@ -40,16 +40,19 @@ void write_snapshot(const Communicator& comm, const std::string& path, const Par
   write_snapshot_share(path, comm, comm.sum(p.size()), first_row(comm, mine.size()), mine, order, m);
 }
 
-void write_checkpoint(const Communicator& comm, const std::string& path, const Particles<2>& p, const RunState& s) {
+template <int D>
+void write_checkpoint(const Communicator& comm, const std::string& path, const Particles<D>& p, const RunState& s) {
   if (comm.size() == 1) {
     write_checkpoint(path, p, s);
     return;
   }
-  const Particles<2> mine = regroup_by_id(comm, p, fields_with<2>(checkpoint_field_flags(s)));
+  const Particles<D> mine = regroup_by_id(comm, p, fields_with<D>(checkpoint_field_flags(s)));
   write_checkpoint_share(path, comm, comm.sum(p.size()), first_row(comm, mine.size()), mine, s);
 }
 
 template void write_snapshot(const Communicator&, const std::string&, const Particles<2>&, const SnapshotMeta&);
 template void write_snapshot(const Communicator&, const std::string&, const Particles<3>&, const SnapshotMeta&);
+template void write_checkpoint(const Communicator&, const std::string&, const Particles<2>&, const RunState&);
+template void write_checkpoint(const Communicator&, const std::string&, const Particles<3>&, const RunState&);
 
 }  // namespace sphdisk

@@ -16,6 +16,7 @@ namespace sphdisk {
 template <int D>
 void write_snapshot(const Communicator& comm, const std::string& path, const Particles<D>& p, const SnapshotMeta& meta);
 
-void write_checkpoint(const Communicator& comm, const std::string& path, const Particles<2>& p, const RunState& s);
+template <int D>
+void write_checkpoint(const Communicator& comm, const std::string& path, const Particles<D>& p, const RunState& s);
 
 }  // namespace sphdisk

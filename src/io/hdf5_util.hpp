@@ -46,6 +46,13 @@ void silence_errors();  // turn off HDF5's automatic error stack printing (once 
 // in this process to report.
 void isolate_library_crashes(const std::string& path, const std::function<void()>& read_all);
 
+// read() tried first in a child (isolate_library_crashes), then here: its result.
+template <class Read>
+auto read_isolated(const std::string& path, Read&& read) {
+  isolate_library_crashes(path, [&] { read(); });
+  return read();
+}
+
 // access: a file-access property list (shared_file_access: one file written by all ranks).
 Handle create_file(const std::string& path, hid_t access = H5P_DEFAULT);
 Handle open_file_readonly(const std::string& path);  // throws UserError naming the path

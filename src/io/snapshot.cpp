@@ -268,6 +268,7 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
   meta.disc_mass = optional("DiskMass", 0) * fm;
   meta.accreted_mass *= fm;
   meta.accreted_angular_momentum *= fm * fl * fl / ft;
+  meta.dimension = static_cast<int>(optional("SimulationDimension", 2));
   meta.problem = h5::has_attr(header, "Problem") ? h5::read_attr_string(header, "Problem", path) : "";
   meta.run_id = h5::has_attr(header, "RunID") ? h5::read_attr_string(header, "RunID", path) : "";
   read_analysis_parameters(file, path, meta);
@@ -312,7 +313,7 @@ Particles<D> read_snapshot_unisolated(const std::string& path, const UnitSystem*
           for (int c = 0; c < D; ++c) field[k][c] = value(static_cast<std::size_t>(c)) * scale;
           for (std::size_t c = D; c < cols; ++c)
             if (value(c) != 0.0)
-              throw UserError("'" + path + "': PartType0/" + name + " has non-zero z components but the run is " + std::to_string(D) + "D");
+              throw UserError("'" + path + "': PartType0/" + name + " has non-zero z components but the run is " + std::to_string(D) + "D (sph.dimension = 3 runs it in 3D)");
         }
       }
     }
@@ -335,6 +336,18 @@ Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units
     read_snapshot_unisolated<D>(path, code_units, m, share);
   });
   return read_snapshot_unisolated<D>(path, code_units, meta, share);
+}
+
+int snapshot_dimension(const std::string& path) {
+  auto read = [&] {
+    h5::Handle file = h5::open_file_readonly(path);
+    h5::Handle header = h5::open_group(file, "Header", path);
+    if (!h5::has_attr(header, "SimulationDimension")) return 2;
+    const double d = h5::read_attr_double(header, "SimulationDimension", path);
+    if (d != 2 && d != 3) throw UserError("'" + path + "': Header/SimulationDimension must be 2 or 3");
+    return static_cast<int>(d);
+  };
+  return h5::read_isolated(path, read);
 }
 
 template double snapshot_box_size(const Particles<2>&);

@@ -27,6 +27,7 @@ struct SnapshotMeta {
   long long step = 0;
   double box_size = 0;             // set by the writer: snapshot_box_size
   bool energy = false;             // InternalEnergy written / present
+  int dimension = 2;               // the run's (Header SimulationDimension; read back, 2 where absent)
   UnitSystem units{1, 1, 1};
   std::vector<std::pair<std::string, std::string>> parameters;  // resolved config (key, TOML text)
   // A parameter's TOML text by key; "" where absent.
@@ -58,6 +59,10 @@ double snapshot_box_size(const Particles<D>& p);
 // code_units given and a /Units group in the file, values are converted to those code units; with
 // nullptr (or no /Units) they are kept as stored. Throws UserError naming what is wrong. IDs are
 // checked to be unique within what was read (across shares: ids_unique in the domain).
+// The run's dimension a snapshot records (Header SimulationDimension; 2 where absent), so that it
+// is read into particles of it.
+int snapshot_dimension(const std::string& path);
+
 template <int D>
 Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta,
                            h5::RowShare share = {});

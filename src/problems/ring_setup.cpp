@@ -37,9 +37,52 @@ double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0
 
 }  // namespace
 
-Particles<2> make_ring(const RingSetup& s) { return make_ring(s, 0, 1); }
+double ring_scale_height(const RingSetup& s, double R) {
+  return s.sound_speed * std::pow(R, -s.sound_speed_index) * std::pow(R, 1.5);
+}
 
-Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares) {
+namespace {
+
+// The azimuthal speed that holds a particle at cylindrical radius R and height z on a circle:
+// v_phi^2 = G M R^2 / (R^2 + z^2)^(3/2) + (R / rho) dP/dR, with P = c_s(R)^2 rho and rho the
+// profile's density (Sigma in 2D; Sigma / (sqrt(2 pi) H) exp(-z^2 / 2 H^2) in 3D). The pressure
+// term, c_s^2 d ln(c_s^2 rho) / d ln R, from a central difference; dropped where the profile has
+// underflowed (far out in the wings, where no particle is drawn in practice).
+template <int D>
+double circular_speed(const RingSetup& s, double R, double z) {
+  if (!(s.sound_speed > 0)) return 1.0 / std::sqrt(R);  // Kepler (pressureless rings are 2D: z = 0)
+  const double gravity = R * R / std::pow(R * R + z * z, 1.5);
+  auto ln_pressure = [&](double r) {
+    const double c = s.sound_speed * std::pow(r, -s.sound_speed_index);
+    double ln_rho = std::log(s.solution.surface_density(r, s.tau_start));
+    if constexpr (D == 3) {
+      const double H = ring_scale_height(s, r);
+      ln_rho -= std::log(H) + 0.5 * z * z / (H * H);
+    }
+    return std::log(c * c) + ln_rho;
+  };
+  const double dr = 1e-5 * R;
+  const double slope = (ln_pressure(R + dr) - ln_pressure(R - dr)) / (2 * dr) * R;
+  const double c = s.sound_speed * std::pow(R, -s.sound_speed_index);
+  const double pressure = std::isfinite(slope) ? c * c * slope : 0.0;
+  return std::sqrt(std::max(gravity + pressure, 0.0));
+}
+
+// A standard normal number from two uniforms (Box-Muller, cosine branch).
+double standard_normal(double u1, double u2) {
+  return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+}  // namespace
+
+template <int D>
+Particles<D> make_ring(const RingSetup& s) { return make_ring<D>(s, 0, 1); }
+
+template <int D>
+Particles<D> make_ring(const RingSetup& s, std::size_t share, std::size_t shares) {
+  static_assert(D == 2 || D == 3);
+  if (D == 3 && !(s.sound_speed > 0))
+    throw UserError("ring set-up: a 3D ring needs a sound speed for its vertical equilibrium (physics.aspect_ratio)");
   if (s.particles == 0) throw UserError("problem.particles must be > 0");
   double r_lo, r_hi;
   radial_range(s, r_lo, r_hi);
@@ -64,13 +107,14 @@ Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares
 
   const std::size_t n = s.particles;
   if (shares == 0 || share >= shares) throw std::invalid_argument("make_ring: share out of range");
-  Particles<2> p;
+  Particles<D> p;
   p.resize(n > share ? (n - share + shares - 1) / shares : 0);
+  constexpr int draws = D == 2 ? 2 : 4;  // radius, azimuth (and two for the height)
   std::mt19937_64 gen(s.seed);
   const double m = s.solution.disc_mass / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (i % shares != share) {  // another share's particle: draw its two numbers, keep nothing
-      gen.discard(2);
+    if (i % shares != share) {  // another share's particle: draw its numbers, keep nothing
+      gen.discard(draws);
       continue;
     }
     const std::size_t k = i / shares;
@@ -81,15 +125,26 @@ Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares
     // dense radial bands within a few orbits, far worse than random azimuths.)
     const double phi = 2.0 * std::numbers::pi * uniform01(gen);
     const double c = std::cos(phi), sn = std::sin(phi);
-    const double v_phi = 1.0 / std::sqrt(ri);  // Kepler, G M = 1
+    double z = 0;
+    if constexpr (D == 3) {
+      const double u1 = uniform01(gen);
+      z = ring_scale_height(s, ri) * standard_normal(u1, uniform01(gen));
+    }
+    const double v_phi = circular_speed<D>(s, ri, z);  // Kepler (G M = 1) where pressureless
     const double v_r = s.solution.radial_velocity(ri, s.tau_start);
     p.id[k] = i + 1;  // GADGET convention: IDs start at 1
     p.mass[k] = m;
-    p.pos[k] = Vec<2>{{ri * c, ri * sn}};
-    p.vel[k] = Vec<2>{{v_r * c - v_phi * sn, v_r * sn + v_phi * c}};
+    p.pos[k][0] = ri * c, p.pos[k][1] = ri * sn;
+    p.vel[k][0] = v_r * c - v_phi * sn, p.vel[k][1] = v_r * sn + v_phi * c;
+    if constexpr (D == 3) p.pos[k][2] = z, p.vel[k][2] = 0;
   }
   return p;
 }
+
+template Particles<2> make_ring(const RingSetup&);
+template Particles<3> make_ring(const RingSetup&);
+template Particles<2> make_ring(const RingSetup&, std::size_t, std::size_t);
+template Particles<3> make_ring(const RingSetup&, std::size_t, std::size_t);
 
 double ring_smoothing_length(const RingSetup& s, double neighbours) {
   double r_lo, r_hi;

@@ -2,7 +2,9 @@
 // Initial conditions of the viscously spreading ring (P98 sec. 5.2; docs/physics.md sec. 4): particles
 // "placed stochastically on Kepler orbits" following the analytic surface density at tau_start.
 // Radii come from the inverse CDF of 2 pi r Sigma(r, tau_start) on a fine grid, azimuths are
-// uniform, velocities are Keplerian plus the analytic radial velocity. A seeded generator makes
+// uniform, velocities are Keplerian plus the analytic radial velocity. With pressure the rotation
+// is what balances gravity and the radial pressure gradient; in 3D the heights are Gaussian with
+// the scale height H = c_s / Omega of vertical hydrostatic equilibrium. A seeded generator makes
 // the same particles for the same seed, on any machine (no std:: distributions, whose algorithms
 // are implementation-defined).
 #include <cstdint>
@@ -25,15 +27,23 @@ struct RingSetup {
   std::uint64_t seed = 42;
   bool stratified = false;     // Placement::Stratified: radii at (k + U)/N quantiles instead of U
   double accretion_radius = 0.05;
+  // Pressure (code units): c_s(R) = sound_speed R^-sound_speed_index; 0: pressureless (2D only).
+  double sound_speed = 0;
+  double sound_speed_index = 0;
 };
 
-// The particle set at tau_start (smoothing lengths left at zero).
-Particles<2> make_ring(const RingSetup& s);
+// The particle set at tau_start in D = 2 or 3 dimensions (smoothing lengths left at zero).
+template <int D = 2>
+Particles<D> make_ring(const RingSetup& s);
 // Share `share` of `shares` of the same set: particles share, share + shares, ... (memory O(N/shares);
 // each process of a distributed run makes its own).
-Particles<2> make_ring(const RingSetup& s, std::size_t share, std::size_t shares);
+template <int D = 2>
+Particles<D> make_ring(const RingSetup& s, std::size_t share, std::size_t shares);
 
-// Smoothing length giving `neighbours` mean neighbours (excluding self) at tau_start:
+// The scale height H = c_s / Omega at cylindrical radius R (G M = r0 = 1).
+double ring_scale_height(const RingSetup& s, double R);
+
+// 2D: the smoothing length giving `neighbours` mean neighbours (excluding self) at tau_start:
 //   <N_nb> = N pi (2h)^2 integral (Sigma/m)^2 2 pi r dr,
 // so h is proportional to N^(-1/2), as the paper scales it (P98 sec. 5.3).
 double ring_smoothing_length(const RingSetup& s, double neighbours);

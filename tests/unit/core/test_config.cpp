@@ -141,6 +141,16 @@ TEST(Config, LocallyIsothermalNeedsItsSoundSpeed) {
 }
 
 // An alpha viscosity needs a sound speed, replaces the constant viscosity and has no viscous time.
+TEST(Config, ThreeDimensionsNeedPressureAndOneSoundSpeed) {
+  const std::string lis = "[physics]\neos = \"locally_isothermal\"\n";
+  EXPECT_EQ(error_of("[sph]\ndimension = 3\n" + lis + "aspect_ratio = 0.05\n"), "");
+  EXPECT_NE(error_of("[sph]\ndimension = 3\n").find("sph.dimension = 3 needs pressure"), std::string::npos);
+  EXPECT_NE(error_of(lis + "aspect_ratio = 0.05\nsound_speed = 20.0\n").find("give the sound speed once"), std::string::npos);
+  EXPECT_NE(error_of(lis).find("physics.aspect_ratio > 0"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\naspect_ratio = 0.05\n").find("sets the sound speed of an equation of state"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\neos = \"isothermal\"\naspect_ratio = 1.5\n").find("physics.aspect_ratio"), std::string::npos);
+}
+
 TEST(Config, AlphaViscosityNeedsASoundSpeedAndOutputTimes) {
   const std::string lis = "[physics]\neos = \"locally_isothermal\"\nsound_speed = 20.0\nviscosity = 0.0\nalpha_ss = 0.01\n";
   EXPECT_EQ(error_of(lis + "[output]\norbits = [1.0]\n"), "");

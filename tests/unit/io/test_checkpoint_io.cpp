@@ -69,7 +69,7 @@ RunState state_inside_a_cycle() {
 // p and s written to a checkpoint at path and read back (the state into r).
 Particles<2> round_trip(const Particles<2>& p, const RunState& s, const fs::path& path, RunState& r) {
   write_checkpoint(path.string(), p, s);
-  return read_checkpoint(path.string(), r);
+  return read_checkpoint<2>(path.string(), r);
 }
 
 // Changes entries of a file's dataset of `entries` doubles or 64-bit integers in place: read whole,
@@ -107,7 +107,7 @@ TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
   const fs::path path = temp_file("round_trip.h5");
   write_checkpoint(path.string(), p, s);
   RunState r;
-  const Particles<2> q = read_checkpoint(path.string(), r);
+  const Particles<2> q = read_checkpoint<2>(path.string(), r);
   std::size_t compared = 0;  // every checkpoint field of the table, whatever it holds
   p.for_each_field([&](const FieldInfo& info, const auto& field) {
     if (!(info.flags & kCheckpoint)) return;
@@ -160,11 +160,11 @@ TEST(Checkpoint, RateAndStepStateRoundTripBitForBitWhenAskedFor) {
   expect_same_bits(p.u_kick, q.u_kick);
   // a changed stress entry or step start fails the checksum
   change_entries<double>(path, "Particles/stress", p.size() * 4, [](std::vector<double>& all) { all[4 * 17 + 1] *= 2.0; });
-  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  EXPECT_THROW(read_checkpoint<2>(path.string(), r), UserError);
   write_checkpoint(path.string(), p, s);
   change_entries<std::uint64_t>(path, "Particles/step_ticks", p.size(),
                                 [](std::vector<std::uint64_t>& all) { all[9] += std::uint64_t{1} << 32; });
-  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  EXPECT_THROW(read_checkpoint<2>(path.string(), r), UserError);
 
   const auto holds = [&](const char* dataset) {
     h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
@@ -222,7 +222,7 @@ TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
   }
   set_attrs(path, 5, std::to_string(0));
   try {
-    read_checkpoint(path.string(), r);
+    read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "a format-5 checkpoint without u was accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
@@ -252,12 +252,12 @@ TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
     h5::write_attr(g, "AbsentFields", absent);
   };
   set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kMixedCorrectionOnly}));
-  const Particles<2> old = read_checkpoint(path.string(), r);
+  const Particles<2> old = read_checkpoint<2>(path.string(), r);
   EXPECT_TRUE(old.correction_shift.empty());
   expect_same_bits(linear.correction, old.correction);
   set_format6(static_cast<long long>(linear.absent_fields()));
   try {
-    read_checkpoint(path.string(), r);
+    read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "a format-6 checkpoint claiming flag 256 absent was accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
@@ -273,14 +273,14 @@ TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
   overwrite_mass_row(path, 4, p.mass[3]);
   RunState r;
   try {
-    read_checkpoint(path.string(), r);
+    read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "swapped rows were accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("checksum mismatch"), std::string::npos) << e.what();
   }
   overwrite_mass_row(path, 3, p.mass[3]);
   overwrite_mass_row(path, 4, p.mass[4]);
-  EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+  EXPECT_NO_THROW(read_checkpoint<2>(path.string(), r));
 }
 
 // Format 1 (one hash over whole fields) is no longer read: refused with one line naming the format
@@ -292,7 +292,7 @@ TEST(Checkpoint, FormatOneFilesAreRefusedWithTheWayOut) {
   const auto before = fs::file_size(path);
   RunState r;
   try {
-    read_checkpoint(path.string(), r);
+    read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "a format-1 checkpoint was accepted";
   } catch (const UserError& e) {
     const std::string what = e.what();
@@ -310,9 +310,9 @@ TEST(Checkpoint, FormatTwoFilesAreReadWithoutHistory) {
   const std::string fixture = std::string(SPHDISK_SOURCE_DIR) + "/tests/fixtures/checkpoint_format2.hdf5";
   RunState r;
   if (kSinglePrecisionFields) {  // written by a double build: refused (RefusesAnotherFieldPrecision)
-    EXPECT_THROW(read_checkpoint(fixture, r), UserError);
+    EXPECT_THROW(read_checkpoint<2>(fixture, r), UserError);
   } else {
-    const Particles<2> q = read_checkpoint(fixture, r);
+    const Particles<2> q = read_checkpoint<2>(fixture, r);
     ASSERT_EQ(q.size(), 300u);
     EXPECT_EQ(r.step, 3);
     for (std::size_t i = 0; i < q.size(); ++i) {
@@ -329,7 +329,7 @@ TEST(Checkpoint, FormatTwoFilesAreReadWithoutHistory) {
     h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     ASSERT_GE(H5Ldelete(f, "Particles/h_prev", H5P_DEFAULT), 0);
   }
-  EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
+  EXPECT_THROW(read_checkpoint<2>(path.string(), r), UserError);
 }
 
 // A checkpoint continues bit for bit only in a build of its field precision: another build's
@@ -340,14 +340,14 @@ TEST(Checkpoint, RefusesAnotherFieldPrecision) {
   const fs::path path = temp_file("precision.h5");
   write_checkpoint(path.string(), p, sample_state());
   RunState r;
-  EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+  EXPECT_NO_THROW(read_checkpoint<2>(path.string(), r));
   {
     h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
     h5::write_attr(g, "SinglePrecisionFields", kSinglePrecisionFields ? 0LL : 1LL);
   }
   try {
-    read_checkpoint(path.string(), r);
+    read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "a checkpoint of the other field precision was accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("single-precision fields; resume it with that build"), std::string::npos) << e.what();
@@ -357,6 +357,6 @@ TEST(Checkpoint, RefusesAnotherFieldPrecision) {
     h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
     ASSERT_GE(H5Adelete(g, "SinglePrecisionFields"), 0);
   }
-  if (kSinglePrecisionFields) EXPECT_THROW(read_checkpoint(path.string(), r), UserError);
-  else EXPECT_NO_THROW(read_checkpoint(path.string(), r));
+  if (kSinglePrecisionFields) EXPECT_THROW(read_checkpoint<2>(path.string(), r), UserError);
+  else EXPECT_NO_THROW(read_checkpoint<2>(path.string(), r));
 }

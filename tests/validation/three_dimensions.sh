@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# A 3D ring in vertical equilibrium (sph.dimension = 3, locally isothermal) end to end: the same bits
+# with 1 and 3 threads (and on 3 MPI ranks where MPIEXEC is given), a run stopped inside a block
+# cycle and resumed (on 2 ranks where MPIEXEC is given) ending with the uninterrupted run's
+# snapshots, a snapshot that h5py and yt read as 3D, and `sphdisk analyze` comparing its vertically
+# integrated Sigma with the analytic ring, and `sphdisk report` drawing it. A 3D checkpoint cannot be resumed as 2D.
+# Usage: three_dimensions.sh SPHDISK [MPIEXEC]
+set -uo pipefail
+sphdisk=$1
+mpiexec=${2:-}
+config="$(dirname "$0")/small_ring.toml"
+. "$(dirname "$0")/../lib/checks.sh"  # $work, ok, bad, finish
+args=(-q --set problem.particles=3000 --set 'output.tau=[0.0185, 0.019]' --set sph.dimension=3
+      --set 'physics.eos="locally_isothermal"' --set physics.aspect_ratio=0.05 --set physics.sound_speed_index=0.25
+      --set 'integrator.scheme="block"' --set 'sph.pair_lists="rescan"')
+
+same_snapshots() {  # $1, $2: run directories ($3: from snapshot_001 on, for a run whose first recorded another configuration)
+  for f in ${3:-snapshot_000.hdf5} snapshot_001.hdf5 snapshot_002.hdf5; do cmp -s "$1/$f" "$2/$f" || return 1; done
+}
+
+OMP_NUM_THREADS=1 "$sphdisk" run "$config" "${args[@]}" -o "$work/t1" > /dev/null || bad "3D ring run (1 thread)"
+OMP_NUM_THREADS=3 "$sphdisk" run "$config" "${args[@]}" -o "$work/t3" > /dev/null || bad "3D ring run (3 threads)"
+if same_snapshots "$work/t1" "$work/t3"; then ok "3D: same snapshots with 1 and 3 threads"; else bad "3D: snapshots differ between 1 and 3 threads"; fi
+# The other integrators and pair sources.
+for variant in leapfrog,stored respa,stored rk23,rescan; do
+  IFS=, read -r scheme storage <<< "$variant"
+  for t in 1 3; do
+    OMP_NUM_THREADS=$t "$sphdisk" run "$config" "${args[@]}" --set "integrator.scheme=\"$scheme\"" --set "sph.pair_lists=\"$storage\"" \
+      -o "$work/$scheme$t" > /dev/null || bad "3D run with $scheme on $storage pairs ($t threads)"
+  done
+  if same_snapshots "$work/${scheme}1" "$work/${scheme}3"; then ok "3D, $scheme on $storage pairs: same snapshots with 1 and 3 threads"
+  else bad "3D, $scheme on $storage pairs: snapshots differ between 1 and 3 threads"; fi
+done
+
+# Stopped by a SIGINT inside a block cycle (exit 75, checkpoint written inside it), then resumed
+# (its snapshot_000 records the stop's key, so the snapshots after it are compared).
+OMP_NUM_THREADS=2 "$sphdisk" run "$config" "${args[@]}" -o "$work/stopped" --set run.inject_interrupt_at_substep=5 > /dev/null 2>&1
+rc=$?
+if [ $rc -eq 75 ]; then ok "3D: a stop inside a block cycle exits 75"; else bad "3D: a stop inside a block cycle exited $rc, not 75"; fi
+if [ -n "$mpiexec" ]; then
+  cp -r "$work/stopped" "$work/stopped_mpi"
+  "$mpiexec" -np 2 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 \
+    "$sphdisk" resume "$work/stopped_mpi" -q --set run.inject_interrupt_at_substep=0 > /dev/null
+  if same_snapshots "$work/t1" "$work/stopped_mpi" " "; then ok "3D: resumed on 2 ranks, the uninterrupted run's snapshots"
+  else bad "3D: resumed on 2 ranks, snapshots differ from the uninterrupted run"; fi
+  "$mpiexec" -np 3 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 \
+    "$sphdisk" run "$config" "${args[@]}" -o "$work/r3" > /dev/null
+  if same_snapshots "$work/t1" "$work/r3"; then ok "3D: same snapshots on 3 ranks as on one process"; else bad "3D: snapshots differ on 3 ranks"; fi
+fi
+OMP_NUM_THREADS=1 "$sphdisk" resume "$work/stopped" -q --set run.inject_interrupt_at_substep=0 > /dev/null
+if same_snapshots "$work/t1" "$work/stopped" " "; then ok "3D: resumed, the uninterrupted run's snapshots"; else bad "3D: resumed, snapshots differ from the uninterrupted run"; fi
+if out=$("$sphdisk" resume "$work/stopped" -q --set sph.dimension=2 2>&1); then bad "3D checkpoint resumed as 2D"
+elif [ "$(printf '%s\n' "$out" | wc -l)" -eq 1 ] && [[ $out == *"sph.dimension cannot change"* ]]; then ok "3D checkpoint refused as 2D in one line"
+else bad "3D checkpoint as 2D: unexpected message: $out"; fi
+
+/usr/bin/python3 - "$work/t1/snapshot_001.hdf5" <<'EOF' && ok "3D snapshot: SimulationDimension 3, heights of the disc's thickness" || bad "3D snapshot layout"
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1]) as f:
+    header = f["Header"].attrs
+    z = f["PartType0/Coordinates"][:, 2] - header["PointMassPosition"][2]
+    assert int(header["SimulationDimension"]) == 3 and int(header["Dimension"]) == 3
+    assert 0.03 < np.sqrt(np.mean(z**2)) < 0.08, np.sqrt(np.mean(z**2))  # H = 0.05 r0 at the ring
+EOF
+
+out=$("$sphdisk" analyze "$work/t1/snapshot_002.hdf5")
+if [[ $out == *"spreading rate: best-fit viscous time tau*/tau"* && $out == *"none in 3D"* ]]; then
+  ok "3D: analyze compares the vertically integrated Sigma with the analytic ring"
+else bad "3D: analyze output: $out"; fi
+if /usr/bin/python3 "$(dirname "$0")/../python/test_yt_load.py" "$work/t1/snapshot_001.hdf5" > "$work/yt.log" 2>&1; then
+  ok "3D snapshot: yt.load reads it right (tests/python/test_yt_load.py)"
+else bad "3D snapshot in yt: $(grep -m3 FAIL "$work/yt.log")"; fi
+if "$sphdisk" report "$work/t1" > /dev/null 2>&1 && grep -q "3D run: the particle" "$work/t1/report/report.md"; then
+  ok "3D: sphdisk report draws the run, with each particle's column density"
+else bad "3D: sphdisk report failed or did not say what its Sigma is"; fi
+finish "three dimensions: "
