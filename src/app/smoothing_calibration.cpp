@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <span>
+#include <vector>
 
 #include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
@@ -23,7 +26,8 @@ double calibrate_smoothing_length(Particles<D>& p, double target, ParticleDomain
   // Start from a uniform distribution over the bounding box: N (2h)^D ~ target volume.
   double h = 0.5 * std::pow(target * volume / static_cast<double>(std::max<std::uint64_t>(n, 1)), 1.0 / D);
   CellGrid<D> grid;
-  NeighbourLists nl;
+  std::vector<std::uint32_t> counts;
+  std::vector<double> support;
   for (int iter = 0; iter < 60; ++iter) {
     if (domain) {
       const double support = 2.0 * h;
@@ -32,9 +36,18 @@ double calibrate_smoothing_length(Particles<D>& p, double target, ParticleDomain
     } else {
       build_cell_grid(p.pos, p.id, h, grid);
     }
-    build_neighbour_lists(grid, p.pos, 2.0 * h, nl, owned);
+    // The neighbours within 2h counted, not listed: a first guess far too large (a bounding box
+    // mostly empty, as around a ring or a thin disc) would list thousands per particle.
+    counts.assign(owned, 0);
+    support.assign(p.pos.size(), 2.0 * h);
+    settle_without_lists<D>(grid, p.pos, support, [&counts](std::size_t i, std::span<const std::uint32_t> js, std::span<const double>, double r) {
+      counts[i] = static_cast<std::uint32_t>(js.size());
+      return r;
+    }, owned);
     if (domain) domain->remove_ghosts(p);
-    const std::uint64_t pairs = domain ? domain->sum(nl.total()) : nl.total();
+    std::uint64_t listed = 0;
+    for (std::uint32_t c : counts) listed += c;
+    const std::uint64_t pairs = domain ? domain->sum(listed) : listed;
     const double mean = static_cast<double>(pairs) / static_cast<double>(n);
     if (std::abs(mean / target - 1.0) < 0.01) break;
     h *= std::pow(target / std::max(mean, 0.5), 1.0 / D);
