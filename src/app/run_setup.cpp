@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "physics/kernels.hpp"
+#include "problems/power_law_disc.hpp"
 
 namespace sphdisk {
 
@@ -50,6 +51,15 @@ Setup make_setup(const Config& cfg) {
   if (s.phys.eos != EquationOfState::None) {
     s.ring.sound_speed = s.phys.sound_speed;
     s.ring.sound_speed_index = s.phys.eos == EquationOfState::LocallyIsothermal ? cfg.sound_speed_index : 0.0;
+  }
+  s.disc = cfg.problem == "disc";
+  if (s.disc) {
+    s.disc_sampling = power_law_sampling({cfg.inner_radius, cfg.outer_radius, cfg.sigma_index, cfg.disc_mass / cfg.central_mass});
+    s.disc_sampling.particles = s.ring.particles;
+    s.disc_sampling.seed = s.ring.seed;
+    s.disc_sampling.stratified = s.ring.stratified;
+    s.disc_sampling.sound_speed = s.ring.sound_speed;
+    s.disc_sampling.sound_speed_index = s.ring.sound_speed_index;
   }
   s.tau_rate = 12.0 * s.phys.nu;
   return s;

@@ -1,6 +1,6 @@
 #pragma once
 // What a run's configuration implies in code units (length r0, mass M, G = 1; core/units.hpp):
-// the physics parameters, the ring's set-up, the viscous-time clock and the output times; and the
+// the physics parameters, the ring's or the disc's set-up, the viscous-time clock and the output times; and the
 // up-front refusal of a run that cannot fit in memory.
 #include <cstddef>
 #include <vector>
@@ -8,6 +8,7 @@
 #include "core/config.hpp"
 #include "core/units.hpp"
 #include "physics/physics_params.hpp"
+#include "problems/disc_sampling.hpp"
 #include "problems/ring_setup.hpp"
 
 namespace sphdisk {
@@ -16,6 +17,8 @@ struct Setup {
   UnitSystem units;
   PhysicsParams phys;
   RingSetup ring;
+  bool disc = false;        // problem.type = "disc": the particles from disc_sampling, not the ring
+  DiscSampling disc_sampling;
   double tau_rate;  // d tau / dt (r0 = 1); nu = 0 (pure Kepler test): tau then stands for the time
   double tau_of_time(double t) const { return tau_rate > 0 ? t * tau_rate : t; }
   double time_of_tau(double tau) const { return tau_rate > 0 ? tau / tau_rate : tau; }

@@ -75,7 +75,7 @@ Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Pa
   meta_.energy = cfg.evolve_energy;
   meta_.units = setup_.units;
   meta_.parameters = cfg.resolved;
-  meta_.problem = cfg.initial_conditions.empty() ? "ring" : "initial_conditions";
+  meta_.problem = !cfg.initial_conditions.empty() ? "initial_conditions" : setup_.disc ? "disc" : "ring";
   meta_.run_id = run_identity(cfg);
   if (distributed()) rates_.set_domain(&domain_);
   rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));

@@ -77,8 +77,9 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
   } else {
-    p = make_ring<D>(setup.ring, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
-    state.time = setup.time_of_tau(cfg.tau_start);
+    const auto share = static_cast<std::size_t>(comm.rank()), shares = static_cast<std::size_t>(comm.size());
+    p = setup.disc ? sample_disc<D>(setup.disc_sampling, share, shares) : make_ring<D>(setup.ring, share, shares);
+    state.time = setup.disc ? 0.0 : setup.time_of_tau(cfg.tau_start);  // the ring starts at its viscous time
   }
   if (output_times(cfg, setup).back() <= state.time)
     throw UserError("every output time is at or before the initial time (t = " + std::to_string(state.time) + ", tau = " +
@@ -86,9 +87,10 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
   // h: given, or from the target mean neighbour number (analytically for the 2D ring, measured on
   // the particles otherwise). Constant smoothing keeps it for all particles and times (P98 sec.
   // 5.3); adaptive smoothing starts its per-particle solve from it.
-  state.smoothing_length = cfg.smoothing_length > 0                     ? cfg.smoothing_length
-                           : cfg.initial_conditions.empty() && D == 2 ? ring_smoothing_length(setup.ring, cfg.neighbours)
-                                                                        : calibrated_smoothing_length(comm, p, cfg.neighbours);
+  const bool ring = cfg.initial_conditions.empty() && !setup.disc;
+  state.smoothing_length = cfg.smoothing_length > 0 ? cfg.smoothing_length
+                           : ring && D == 2         ? ring_smoothing_length(setup.ring, cfg.neighbours)
+                                                    : calibrated_smoothing_length(comm, p, cfg.neighbours);
   for (auto& hi : p.h) hi = state.smoothing_length;
   state.config_toml = cfg.resolved_toml;
 

@@ -159,11 +159,14 @@ KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std
 
 const std::vector<KeyDef>& schema() {
   static const std::vector<KeyDef> keys = {
-      string_key("problem.type", &Config::problem, {"ring"}, "set-up: the viscously spreading ring (P98 sec. 5)"),
+      string_key("problem.type", &Config::problem, {"ring", "disc"}, "set-up: the viscously spreading ring (P98 sec. 5), or a power-law disc Sigma ~ R^-p between problem.inner_radius and problem.outer_radius (Phantom's set-up; in 3D in vertical equilibrium)"),
       int_key("problem.particles", &Config::particles, 1, 2'000'000'000, "number of SPH particles N"),
       int_key("problem.seed", &Config::seed, 0, (1LL << 62), "seed of the random particle placement (same seed, same particles)"),
       float_key("problem.ring_radius", &Config::ring_radius, positive(), "initial ring radius r0 in solar radii (the code length unit)"),
       float_key("problem.disc_mass", &Config::disc_mass, positive(), "disc mass m in solar masses"),
+      float_key("problem.inner_radius", &Config::inner_radius, positive(), "disc: inner edge R_in in units of problem.ring_radius"),
+      float_key("problem.outer_radius", &Config::outer_radius, positive(), "disc: outer edge R_out in units of problem.ring_radius"),
+      float_key("problem.sigma_index", &Config::sigma_index, in_range(-3, 3), "disc: p of the surface density Sigma ~ R^-p (Phantom's pindex)"),
       float_key("problem.tau_start", &Config::tau_start, positive(), "viscous time tau = 12 nu t / r0^2 of the initial conditions"),
       string_key("problem.placement", &Config::placement, {"random", "stratified"}, "radii drawn at random, or stratified (low noise)"),
       string_key("problem.initial_conditions", &Config::initial_conditions, {}, "HDF5 snapshot to start from (\"\": generate the ring)"),
@@ -352,7 +355,16 @@ void check_toml_characters(const std::string& text, const std::string& source) {
 }
 
 void check_consistency(const Config& c) {
-  if (c.accretion_radius >= 1.0)
+  const bool disc = c.problem == "disc" && c.initial_conditions.empty();
+  if (disc && !(c.inner_radius < c.outer_radius))
+    throw UserError("config: problem.inner_radius = " + toml_text(c.inner_radius) + " must be below problem.outer_radius = " +
+                    toml_text(c.outer_radius));
+  if (disc && c.accretion_radius >= c.inner_radius)
+    throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
+                    " must be below problem.inner_radius = " + toml_text(c.inner_radius) + " (particles inside are removed)");
+  if (disc && c.output_times.empty() && c.output_orbits.empty())
+    throw UserError("config: a disc has no viscous time tau of its own; give output.times or output.orbits");
+  if (!disc && c.accretion_radius >= 1.0)
     throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
                     " must be < 1 (it is in units of ring_radius: particles inside are removed)");
   if (!c.output_times.empty() && !c.output_orbits.empty())

@@ -16,6 +16,8 @@ struct Config {
   long long seed = 42;
   double ring_radius = 1.0;          // solar radii: the length unit r0
   double disc_mass = 1e-10;          // solar masses
+  double inner_radius = 1.0, outer_radius = 5.0;  // disc: R_in, R_out in units of ring_radius
+  double sigma_index = 1.0;          // disc: p of Sigma ~ R^-p
   double tau_start = 0.018;          // viscous time of the initial conditions (P98 5.2)
   std::string placement = "random";  // random | stratified
   std::string initial_conditions;    // HDF5 snapshot to start from instead of generating

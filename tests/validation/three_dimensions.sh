@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# A 3D ring in vertical equilibrium (sph.dimension = 3, locally isothermal) end to end: the same bits
+# A 3D ring in vertical equilibrium (sph.dimension = 3, locally isothermal) and the power-law disc of
+# configs/disc_phantom_like.toml end to end: the same bits
 # with 1 and 3 threads (and on 3 MPI ranks where MPIEXEC is given), a run stopped inside a block
 # cycle and resumed (on 2 ranks where MPIEXEC is given) ending with the uninterrupted run's
 # snapshots, a snapshot that h5py and yt read as 3D, and `sphdisk analyze` comparing its vertically
@@ -69,6 +70,14 @@ else bad "3D: analyze output: $out"; fi
 if /usr/bin/python3 "$(dirname "$0")/../python/test_yt_load.py" "$work/t1/snapshot_001.hdf5" > "$work/yt.log" 2>&1; then
   ok "3D snapshot: yt.load reads it right (tests/python/test_yt_load.py)"
 else bad "3D snapshot in yt: $(grep -m3 FAIL "$work/yt.log")"; fi
+# The power-law disc of configs/disc_phantom_like.toml (alpha viscosity), small and short.
+disc=(-q --set problem.particles=3000 --set 'output.orbits=[0.02, 0.04]' "$(dirname "$0")/../../configs/disc_phantom_like.toml")
+for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" -o "$work/disc$t" > /dev/null || bad "3D disc run ($t threads)"; done
+if same_snapshots "$work/disc1" "$work/disc3"; then ok "3D disc: same snapshots with 1 and 3 threads"; else bad "3D disc: snapshots differ between 1 and 3 threads"; fi
+out=$("$sphdisk" analyze "$work/disc1/snapshot_002.hdf5")
+if [[ $out == *"Mdot_in"* && $out == *"mass budget"* && $out != *"spreading rate"* ]]; then ok "3D disc: analyze gives its radial profiles"
+else bad "3D disc: analyze output: $out"; fi
+
 if "$sphdisk" report "$work/t1" > /dev/null 2>&1 && grep -q "3D run: the particle" "$work/t1/report/report.md"; then
   ok "3D: sphdisk report draws the run, with each particle's column density"
 else bad "3D: sphdisk report failed or did not say what its Sigma is"; fi

@@ -151,6 +151,17 @@ TEST(Config, ThreeDimensionsNeedPressureAndOneSoundSpeed) {
   EXPECT_NE(error_of("[physics]\neos = \"isothermal\"\naspect_ratio = 1.5\n").find("physics.aspect_ratio"), std::string::npos);
 }
 
+TEST(Config, DiscNeedsOrderedEdgesAnInnerAccretionRadiusAndOutputTimes) {
+  const std::string disc = "[problem]\ntype = \"disc\"\n";
+  EXPECT_EQ(error_of(disc + "[output]\norbits = [1.0]\n"), "");
+  EXPECT_NE(error_of(disc).find("a disc has no viscous time tau"), std::string::npos);
+  EXPECT_NE(error_of(disc + "inner_radius = 5.0\nouter_radius = 1.0\n[output]\norbits = [1.0]\n").find("must be below problem.outer_radius"),
+            std::string::npos);
+  EXPECT_NE(error_of(disc + "inner_radius = 0.5\n[output]\norbits = [1.0]\n[physics]\naccretion_radius = 0.6\n")
+                .find("must be below problem.inner_radius"),
+            std::string::npos);
+}
+
 TEST(Config, AlphaViscosityNeedsASoundSpeedAndOutputTimes) {
   const std::string lis = "[physics]\neos = \"locally_isothermal\"\nsound_speed = 20.0\nviscosity = 0.0\nalpha_ss = 0.01\n";
   EXPECT_EQ(error_of(lis + "[output]\norbits = [1.0]\n"), "");
