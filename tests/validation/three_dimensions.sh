@@ -63,6 +63,21 @@ with h5py.File(sys.argv[1]) as f:
     assert 0.03 < np.sqrt(np.mean(z**2)) < 0.08, np.sqrt(np.mean(z**2))  # H = 0.05 r0 at the ring
 EOF
 
+# The default viscous force conserves angular momentum in 3D: on a thin ring (H/R = 0.005, kernels
+# several scale heights tall) the net torque of the first evaluation's accelerations is 0.14% of the
+# particles' own torques (eq. 6's pair forces are not central), under the 1% asked; the consistent
+# form's is 44%.
+"$sphdisk" run "$config" "${args[@]}" --set physics.aspect_ratio=0.005 --set 'output.tau=[0.0185]' -o "$work/thin" > /dev/null
+/usr/bin/python3 - "$work/thin/snapshot_000.hdf5" <<'PYEOF' && ok "3D: no net torque from the default viscous force" || bad "3D: net torque of the SPH forces"
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1]) as f:
+    x = f["PartType0/Coordinates"][:] - f["Header"].attrs["PointMassPosition"]
+    a, m = f["PartType0/Acceleration"][:], f["PartType0/Masses"][:]
+torque = m * (x[:, 0] * a[:, 1] - x[:, 1] * a[:, 0])
+print(f"net torque / sum |torque| = {abs(torque.sum()) / np.abs(torque).sum():.2e}")
+assert abs(torque.sum()) < 1e-2 * np.abs(torque).sum()
+PYEOF
+
 out=$("$sphdisk" analyze "$work/t1/snapshot_002.hdf5")
 if [[ $out == *"spreading rate: best-fit viscous time tau*/tau"* && $out == *"none in 3D"* ]]; then
   ok "3D: analyze compares the vertically integrated Sigma with the analytic ring"
