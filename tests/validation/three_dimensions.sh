@@ -85,6 +85,15 @@ else bad "3D: analyze output: $out"; fi
 if /usr/bin/python3 "$(dirname "$0")/../python/test_yt_load.py" "$work/t1/snapshot_001.hdf5" > "$work/yt.log" 2>&1; then
   ok "3D snapshot: yt.load reads it right (tests/python/test_yt_load.py)"
 else bad "3D snapshot in yt: $(grep -m3 FAIL "$work/yt.log")"; fi
+# A 3D run from a 3D snapshot (problem.initial_conditions); the 2D run refuses it in one line.
+if "$sphdisk" run "$config" -q --set sph.dimension=3 --set 'physics.eos="locally_isothermal"' --set physics.aspect_ratio=0.05 \
+     --set "problem.initial_conditions=\"$work/t1/snapshot_001.hdf5\"" --set 'output.tau=[0.0192]' -o "$work/from_file" > /dev/null &&
+   [ -e "$work/from_file/snapshot_001.hdf5" ]; then ok "3D: a run from a 3D snapshot"; else bad "3D: a run from a 3D snapshot failed"; fi
+if out=$("$sphdisk" run "$config" -q --set "problem.initial_conditions=\"$work/t1/snapshot_001.hdf5\"" --set 'output.tau=[0.0192]' -o "$work/as_2d" 2>&1); then
+  bad "a 3D snapshot run as 2D"
+elif [[ $out == *"sph.dimension = 3"* ]]; then ok "a 3D snapshot as 2D initial conditions: refused, naming sph.dimension = 3"
+else bad "a 3D snapshot as 2D: unexpected message: $out"; fi
+
 # The power-law disc of configs/disc_phantom_like.toml (alpha viscosity), small and short.
 disc=(-q --set problem.particles=3000 --set 'output.orbits=[0.02, 0.04]' "$(dirname "$0")/../../configs/disc_phantom_like.toml")
 for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" -o "$work/disc$t" > /dev/null || bad "3D disc run ($t threads)"; done
