@@ -36,6 +36,9 @@ Setup make_setup(const Config& cfg) {
   s.phys.sound_speed = cfg.aspect_ratio > 0 ? cfg.aspect_ratio : cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
   s.phys.sound_speed_index = cfg.sound_speed_index;
   s.phys.evolve_energy = cfg.evolve_energy;
+  s.phys.av_alpha = cfg.av_alpha;
+  s.phys.av_beta = cfg.av_beta;
+  s.phys.av_limiter = cfg.av_limiter == "balsara";
   s.phys.gradient_correction = gradient_correction_from_name(cfg.gradient_correction);
   s.phys.force_correction = cfg.force_correction;
   s.phys.viscous_force = viscous_force_from_name(cfg.resolved_viscous_force());

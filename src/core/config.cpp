@@ -178,6 +178,9 @@ const std::vector<KeyDef>& schema() {
       float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
       float_key("physics.aspect_ratio", &Config::aspect_ratio, in_range(0, 1), "H/R = c_s / v_Kepler at R = r0, instead of physics.sound_speed (which is then 0): the thickness a locally isothermal or isothermal disc has in vertical equilibrium; 0: physics.sound_speed is given"),
       float_key("physics.sound_speed_index", &Config::sound_speed_index, in_range(-2, 2), "locally_isothermal: q of c_s(R) = c_s (R / r0)^-q (Phantom's qfacdisc; 0.25 for its test disc)"),
+      float_key("physics.av_alpha", &Config::av_alpha, in_range(0, 10), "artificial viscosity (Monaghan 1997 with the signal velocity, Phantom's form): alpha of its signal velocity alpha c_s + beta |v_ij . r_ij / r_ij| over approaching pairs; 0: none (the ring's viscosity is physics.viscosity alone); needs an equation of state; its signal speeds limit the steps (integrator.courant_factor)"),
+      float_key("physics.av_beta", &Config::av_beta, in_range(0, 10), "artificial viscosity: beta of the signal velocity"),
+      string_key("physics.av_limiter", &Config::av_limiter, {"balsara", "none"}, "artificial viscosity: balsara scales each particle's share by |div v| / (|div v| + |curl v| + 1e-4 c_s / h) (Balsara 1995), which keeps it off shear flows such as a Keplerian disc; none: the full alpha everywhere"),
       bool_key("physics.evolve_energy", &Config::evolve_energy, "integrate the internal energy (viscous heating)"),
       float_key("physics.accretion_radius", &Config::accretion_radius, non_negative(), "accretion radius in units of ring_radius"),
       int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
@@ -383,6 +386,9 @@ void check_consistency(const Config& c) {
     throw UserError("config: give the sound speed once: physics.sound_speed (km/s) or physics.aspect_ratio (H/R at r0), not both");
   if (c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0)
     throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s) or physics.aspect_ratio > 0 (H/R at r0)");
+  if (c.av_alpha > 0 && c.eos == "none")
+    throw UserError("config: physics.av_alpha > 0 needs a sound speed for its signal velocity: set physics.eos with "
+                    "physics.aspect_ratio or physics.sound_speed");
   if (c.eos == "none" && c.aspect_ratio > 0)
     throw UserError("config: physics.aspect_ratio sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
   if (c.dimension == 3 && c.eos == "none" && c.initial_conditions.empty())

@@ -29,6 +29,8 @@ struct Config {
   std::string eos = "none";        // none | isothermal
   double sound_speed = 0.0;        // km/s (isothermal)
   double aspect_ratio = 0;        // H/R at R = r0, instead of sound_speed (0: not given)
+  double av_alpha = 0, av_beta = 2;  // artificial viscosity (0: none)
+  std::string av_limiter = "balsara";  // balsara | none
   double sound_speed_index = 0;  // locally isothermal: q of c_s(R) = c_s (R / r0)^-q
   bool evolve_energy = false;
   double accretion_radius = 0.05;  // in units of ring_radius

@@ -40,6 +40,8 @@ enum FieldFlag : unsigned {
   kHaloSmoothingLength = 1u << 9,
   kHaloDensity = 1u << 10,
   kHaloStress = 1u << 11,
+  kArtificialViscosityOnly = 1u << 12,  // read and written only with the artificial viscosity
+                                        // (PhysicsParams::av_alpha > 0)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -66,6 +68,8 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(stress, Tensor, "KinematicStress",   kReduced | kRateState | kHaloStress,   2,  0, -1)     \
   X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly | kHaloStress, 0, 0, 0) \
   X(correction_shift, Vector, "MomentCorrectionShift", kRateState | kMixedCorrectionOnly | kHaloStress, -1, 0, 0) \
+  X(av_limiter, Scalar, "ViscosityLimiter", kRateState | kArtificialViscosityOnly | kHaloStress, 0, 0, 0)     \
+  X(signal_speed, Scalar, "SignalSpeed", kRateState | kArtificialViscosityOnly,  1,  0, -1)     \
   X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
   X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
   X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
@@ -88,10 +92,13 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 // The fields a run does not use, to be made absent (Particles::set_absent_fields): the block
 // integrator's state inside a step without block timesteps, the energy equation's fields without
 // one, the moment correction where no force reads it (PhysicsParams::keeps_correction), its shift
-// where no force reads that (keeps_correction_shift).
-constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction, bool correction_shift) {
+// where no force reads that (keeps_correction_shift), the artificial viscosity's limiter and signal
+// speeds without it.
+constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction, bool correction_shift,
+                                 bool artificial_viscosity) {
   return (step_state ? 0u : unsigned{kStepState}) | (energy ? 0u : unsigned{kEnergyOnly | kEnergyStepState}) |
-         (moment_correction ? 0u : unsigned{kForceCorrectionOnly}) | (correction_shift ? 0u : unsigned{kMixedCorrectionOnly});
+         (moment_correction ? 0u : unsigned{kForceCorrectionOnly}) | (correction_shift ? 0u : unsigned{kMixedCorrectionOnly}) |
+         (artificial_viscosity ? 0u : unsigned{kArtificialViscosityOnly});
 }
 
 template <int D>

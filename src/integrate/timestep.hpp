@@ -45,8 +45,10 @@ inline double stability_timestep(double h, double nu, double c_s, const PhysicsP
 // dtforce) and the orbital limit keeps them sampled several times per orbit.
 template <int D>
 double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsParams& phys, const TimestepFactors& f) {
-  const double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital),
-                             force_timestep(p.h[i], norm(p.acc[i]), f.force));
+  double dt = std::min(orbital_timestep(norm(p.pos[i]), phys.gm, f.orbital), force_timestep(p.h[i], norm(p.acc[i]), f.force));
+  // With artificial viscosity the Courant limit takes the largest signal speed of the particle's
+  // pairs, sound speed plus beta times an approach speed (Phantom's dtcourant).
+  if (!p.signal_speed.empty() && p.signal_speed[i] > 0) dt = std::min(dt, f.courant * p.h[i] / p.signal_speed[i]);
   return std::min(dt, stability_timestep(p.h[i], largest_viscosity_at(phys, p.pos[i]), sound_speed_at(phys, p.pos[i]), phys, f));
 }
 

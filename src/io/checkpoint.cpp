@@ -32,7 +32,9 @@ namespace {
 // Format 7 (2026-12-04): the mixed correction's shift (correction_shift, a kRateState field absent
 // where unused: kMixedCorrectionOnly), which earlier files never hold: they were written by runs
 // without it (their configurations name the linear or no gradient correction).
-constexpr long long kFormatVersion = 7;
+// Format 8 (2026-12-05): the artificial viscosity's limiter and signal speeds (kRateState fields,
+// absent where unused: kArtificialViscosityOnly), which earlier files never hold.
+constexpr long long kFormatVersion = 8;
 constexpr long long kOldestFormatRead = 2;
 
 bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
@@ -217,7 +219,7 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
   const unsigned may_be_absent =
       kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u) |
-      (out.version >= 7 ? unsigned{kMixedCorrectionOnly} : 0u);
+      (out.version >= 7 ? unsigned{kMixedCorrectionOnly} : 0u) | (out.version >= 8 ? unsigned{kArtificialViscosityOnly} : 0u);
   const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
   if (!(absent >= 0 && absent <= may_be_absent && absent == std::floor(absent)) ||
       (static_cast<unsigned>(absent) & ~may_be_absent) != 0)
@@ -232,7 +234,8 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<D>& p = out.particles;
   // Files before format 7 never hold the mixed correction's shift.
-  p.set_absent_fields(static_cast<unsigned>(absent) | (out.version < 7 ? unsigned{kMixedCorrectionOnly} : 0u));
+  p.set_absent_fields(static_cast<unsigned>(absent) | (out.version < 7 ? unsigned{kMixedCorrectionOnly} : 0u) |
+                      (out.version < 8 ? unsigned{kArtificialViscosityOnly} : 0u));
   p.resize(rows_read);
   for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;

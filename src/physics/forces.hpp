@@ -5,6 +5,9 @@
 //             a_i += sum_j V_j [S_j - S_i + S_i ln(rho_j / rho_i)] . C_i grad_i W_ij
 //   pressure: a_i -= sum_j m_j (P_i / rho_i^2 + P_j / rho_j^2) grad_i W_ij           (docs/physics.md sec. 2)
 //             du_i/dt += (P_i / rho_i^2) sum_j m_j (v_i - v_j) . grad_i W_ij
+//   artificial viscosity (physics.av_alpha > 0, with pressure): q_i / rho_i^2 added to P_i / rho_i^2
+//             for approaching pairs (pair_terms.hpp, artificial_viscosity_pair), and each
+//             particle's signal speed for the step limit
 //   gravity:  a_i -= G M x_i / |x_i|^3   (left out when the integrator substeps it)
 // With phys.force_correction, grad_i W_ij is replaced by G_ij of moment_correction.hpp. Each pair's
 // terms are those of pair_terms.hpp (summed by list_sums.hpp).
@@ -41,6 +44,7 @@ struct ForceScratch {
   OverwriteVector<double> log_rho;               // ln rho (empty without the consistent divergence)
   OverwriteVector<double> rho_without_self;      // rho - m W(0, h) (empty but with PairDensity::Others)
   OverwriteVector<KernelScale> scales;           // kernel scales (empty but where pairs need W_ij)
+  OverwriteVector<double> sound_speed;           // c_s (empty without artificial viscosity)
 };
 
 // Each pair is visited once (pair_lists.hpp) and gives both particles their terms:
@@ -65,18 +69,26 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   renew_snug(rho_without_self, others ? p.size() : 0);
   const KernelScale* scales = fill_kernel_scales(p, phys, scratch.scales, "forces");
   const double w0 = with_kernel(phys.kernel, [](auto k) { return KernelAt<decltype(k), D>(1.0).W(0.0); });
+  const bool av = with_pressure && phys.artificial_viscosity();
+  renew_snug(scratch.sound_speed, av ? p.size() : 0);
   par::for_each(p.size(), [&](std::size_t i) {
     inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
     if (with_pressure) Pr[i] = pressure(phys, static_cast<double>(p.rho[i]), p.pos[i]) * inv_rho[i] * inv_rho[i];
+    if (av) {
+      scratch.sound_speed[i] = sound_speed_at(phys, p.pos[i]);
+      if (i < m) p.signal_speed[i] = scratch.sound_speed[i];  // raised by the pairs (timestep.hpp)
+    }
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
                           inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
                           phys.force_correction, consistent ? log_rho.data() : nullptr, consistent,
                           others ? rho_without_self.data() : nullptr,
-                          phys.keeps_correction_shift() ? p.correction_shift.data() : nullptr, scales, phys.kernel};
+                          phys.keeps_correction_shift() ? p.correction_shift.data() : nullptr, scales, phys.kernel,
+                          av ? scratch.sound_speed.data() : nullptr, av && phys.av_limiter ? p.av_limiter.data() : nullptr,
+                          phys.av_alpha, phys.av_beta, av ? p.signal_speed.data() : nullptr};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

@@ -121,6 +121,13 @@ struct ForceListData {
   // Every particle's kernel scale (with either of the two above), and the kernel.
   const KernelScale* scales = nullptr;
   KernelType kernel = KernelType::Cubic;
+  // Artificial viscosity (with pressure): every particle's sound speed and limiter (null: 1; read
+  // as the stress is, after the particle's velocity gradient), alpha and beta, and the signal
+  // speeds raised to each pair's (j's for j < writable); null: none.
+  const double* sound_speed = nullptr;
+  const double* limiter = nullptr;
+  double av_alpha = 0.0, av_beta = 0.0;
+  double* signal_speed = nullptr;
 };
 
 // ln(rho_j / rho_i) of the densities without the pair's own terms (PairDensity::Others):
@@ -146,7 +153,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
   const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
   const double Pr_i = Pressure ? d.p_over_rho2[i] : 0.0;
   Mat<D> Ci;
-  double log_rho_i = 0.0;
+  double log_rho_i = 0.0, signal_i = 0.0;
   if constexpr (Consistent) Ci = as_double(d.correction[i]), log_rho_i = d.log_rho[i];
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
@@ -172,8 +179,19 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       f = conservative_viscous_pair(Si, Sj, inv_rho_i, d.inv_rho[j], g);
     }
     if constexpr (Pressure) {
-      f -= pressure_pair(Pr_i, d.p_over_rho2[j], g);
-      const PairTerms<double> work = pressure_work_pair(Pr_i, d.p_over_rho2[j], mi, mj, vi - d.vel[j], g);
+      const Vec<D> xij = xi - d.pos[j], vij = vi - d.vel[j];
+      PairTerms<double> Pr{Pr_i, d.p_over_rho2[j]};
+      if (d.sound_speed) {  // artificial viscosity: q / rho^2 on top of P / rho^2
+        const double ci = d.sound_speed[i], cj = d.sound_speed[j];
+        const PairTerms<double> q = artificial_viscosity_pair(xij, vij, ci, cj, inv_rho_i, d.inv_rho[j], d.limiter ? d.limiter[i] : 1.0,
+                                                              d.limiter ? d.limiter[j] : 1.0, d.av_alpha, d.av_beta);
+        Pr.to_i += q.to_i, Pr.to_j += q.to_j;
+        const double s = pair_signal_speed(xij, vij, ci, cj, d.av_beta);
+        signal_i = std::max(signal_i, s);
+        if (j < d.writable) d.signal_speed[j] = std::max(d.signal_speed[j], s);
+      }
+      f -= pressure_pair(Pr.to_i, Pr.to_j, g);
+      const PairTerms<double> work = pressure_work_pair(Pr.to_i, Pr.to_j, mi, mj, vij, g);
       du_i += work.to_i;
       if (j < d.writable && d.du_dt) d.du_dt[j] += work.to_j;
     }
@@ -182,6 +200,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       if (j < d.writable) d.acc[j] -= f * mi;
     }
   }
+  if (d.signal_speed && i < d.writable) d.signal_speed[i] = std::max(d.signal_speed[i], signal_i);
 }
 
 template <int D>

@@ -60,6 +60,10 @@ struct PhysicsParams {
   double sound_speed = 0.0;       // c_s (isothermal), or c_s0 at R = r0 = 1 (locally isothermal)
   double sound_speed_index = 0.0; // q of c_s(R) = c_s0 R^-q (locally isothermal)
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
+  // Artificial viscosity (pair_terms.hpp, artificial_viscosity_pair; needs an equation of state):
+  // alpha (0: none), beta, and whether the Balsara limiter scales each particle's share.
+  double av_alpha = 0.0, av_beta = 2.0;
+  bool av_limiter = true;
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
   GradientCorrection gradient_correction = GradientCorrection::Linear;  // discretisation: the kernel gradient (above)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
@@ -73,6 +77,7 @@ struct PhysicsParams {
   bool keeps_correction_shift() const {
     return viscous_force == ViscousForce::Consistent && gradient_correction == GradientCorrection::Mixed;
   }
+  bool artificial_viscosity() const { return av_alpha > 0 && eos != EquationOfState::None; }
   // Whether a pair's kernel value W_ij enters the pair sums (the mixed correction, the others' densities).
   bool needs_kernel_values() const {
     return gradient_correction == GradientCorrection::Mixed ||

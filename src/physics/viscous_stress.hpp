@@ -81,6 +81,18 @@ Mat<D> corrected_gradient(const GradientSums<D>& g) {
   return g.V * Minv;
 }
 
+// The Balsara (1995) limiter of the artificial viscosity, |div v| / (|div v| + |curl v| + 1e-4 c / h),
+// from the velocity gradient V (V_ab = d v_a / d x_b): near 1 in compression, near 0 in shear, as in
+// a Keplerian disc.
+template <int D>
+double balsara_limiter(const Mat<D>& V, double c, double h) {
+  const double div = std::abs(V.trace());
+  double curl2 = 0;
+  for (int a = 0; a < D; ++a)
+    for (int b = a + 1; b < D; ++b) curl2 += (V(b, a) - V(a, b)) * (V(b, a) - V(a, b));
+  return div / (div + std::sqrt(curl2) + 1e-4 * c / h);
+}
+
 // Eq. 7 divided by rho, with the particle's shear viscosity nu (shear_viscosity_at).
 template <int D>
 Mat<D> kinematic_stress(const Mat<D>& V, double nu, const PhysicsParams& phys) {
@@ -105,6 +117,7 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
   // so that kinetic + internal energy stay exactly conserved.
   const Mat<D> V = phys.gradient_correction == GradientCorrection::None ? g.V : corrected_gradient(used);
   const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(V, shear_viscosity_at(phys, p.pos[i]), phys));
+  if (phys.artificial_viscosity() && phys.av_limiter) p.av_limiter[i] = balsara_limiter(V, sound_speed_at(phys, p.pos[i]), p.h[i]);
   const bool heating = !p.du_dt.empty();  // absent without an energy equation (core/particles.hpp)
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));

@@ -98,6 +98,20 @@ else bad "a 3D snapshot as 2D: unexpected message: $out"; fi
 disc=(-q --set problem.particles=3000 --set 'output.orbits=[0.02, 0.04]' "$(dirname "$0")/../../configs/disc_phantom_like.toml")
 for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" -o "$work/disc$t" > /dev/null || bad "3D disc run ($t threads)"; done
 if same_snapshots "$work/disc1" "$work/disc3"; then ok "3D disc: same snapshots with 1 and 3 threads"; else bad "3D disc: snapshots differ between 1 and 3 threads"; fi
+# With the artificial viscosity (its limiter crosses the ranks with the stress; its signal speeds set steps).
+for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" --set physics.av_alpha=1 -o "$work/av$t" > /dev/null || bad "3D disc with AV ($t threads)"; done
+if same_snapshots "$work/av1" "$work/av3"; then ok "3D disc, artificial viscosity: same snapshots with 1 and 3 threads"
+else bad "3D disc, artificial viscosity: snapshots differ between 1 and 3 threads"; fi
+if cmp -s "$work/disc1/snapshot_002.hdf5" "$work/av1/snapshot_002.hdf5"; then bad "3D disc: the artificial viscosity changed nothing"; fi
+OMP_NUM_THREADS=2 "$sphdisk" run "${disc[@]}" --set physics.av_alpha=1 --set run.inject_interrupt_at_substep=1 -o "$work/av_stopped" > /dev/null 2>&1
+OMP_NUM_THREADS=1 "$sphdisk" resume "$work/av_stopped" -q --set run.inject_interrupt_at_substep=0 > /dev/null
+if same_snapshots "$work/av1" "$work/av_stopped" " "; then ok "3D disc, artificial viscosity: stopped inside a block cycle and resumed, the same snapshots"
+else bad "3D disc, artificial viscosity: resumed run differs"; fi
+if [ -n "$mpiexec" ]; then
+  "$mpiexec" -np 3 --oversubscribe --allow-run-as-root -x OMP_NUM_THREADS=1 "$sphdisk" run "${disc[@]}" --set physics.av_alpha=1 -o "$work/av_r3" > /dev/null
+  if same_snapshots "$work/av1" "$work/av_r3"; then ok "3D disc, artificial viscosity: same snapshots on 3 ranks"
+  else bad "3D disc, artificial viscosity: snapshots differ on 3 ranks"; fi
+fi
 out=$("$sphdisk" analyze "$work/disc1/snapshot_002.hdf5")
 if [[ $out == *"Mdot_in"* && $out == *"mass budget"* && $out != *"spreading rate"* ]]; then ok "3D disc: analyze gives its radial profiles"
 else bad "3D disc: analyze output: $out"; fi

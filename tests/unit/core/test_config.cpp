@@ -148,6 +148,8 @@ TEST(Config, ThreeDimensionsNeedPressureAndOneSoundSpeed) {
   EXPECT_NE(error_of(lis + "aspect_ratio = 0.05\nsound_speed = 20.0\n").find("give the sound speed once"), std::string::npos);
   EXPECT_NE(error_of(lis).find("physics.aspect_ratio > 0"), std::string::npos);
   EXPECT_NE(error_of("[physics]\naspect_ratio = 0.05\n").find("sets the sound speed of an equation of state"), std::string::npos);
+  EXPECT_NE(error_of("[physics]\nav_alpha = 0.1\n").find("physics.av_alpha > 0 needs a sound speed"), std::string::npos);
+  EXPECT_EQ(error_of(lis + "aspect_ratio = 0.05\nav_alpha = 0.1\nav_limiter = \"none\"\n"), "");
   EXPECT_NE(error_of("[physics]\neos = \"isothermal\"\naspect_ratio = 1.5\n").find("physics.aspect_ratio"), std::string::npos);
 }
 
