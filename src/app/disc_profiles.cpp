@@ -33,7 +33,8 @@ bool is_ring_snapshot(const SnapshotMeta& meta) {
   return ic.empty() || ic == "\"\"";
 }
 
-DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max) {
+DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max,
+                           const std::vector<double>* z) {
   if (p.size() == 0) throw UserError("the snapshot holds no particles: no profiles to form");
   if (nbins < 1) throw UserError("the number of radial bins must be at least 1");
   DiscProfiles d;
@@ -42,6 +43,7 @@ DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int 
   d.accreted_mass = meta.accreted_mass;
   d.initial_mass = meta.disc_mass;
   d.gm = point_mass_gm(meta);
+  d.heights = z != nullptr;
   if (!(r_max > r_min)) {
     r_min = r_max = norm(p.pos[0]);
     for (std::size_t i = 0; i < p.size(); ++i) r_min = std::min(r_min, norm(p.pos[i])), r_max = std::max(r_max, norm(p.pos[i]));
@@ -65,6 +67,7 @@ DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int 
     bin.vr += m * motion.vr;
     bin.vr_drift += m * motion.drift;
     bin.j += m * motion.j;
+    if (z) bin.z_rms += m * (*z)[i] * (*z)[i];
   }
   for (std::size_t b = 0; b < d.bins.size(); ++b) {
     DiscBin& bin = d.bins[b];
@@ -73,6 +76,7 @@ DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int 
     bin.vr /= bin_mass[b];
     bin.vr_drift /= bin_mass[b];
     bin.j /= bin_mass[b];
+    bin.z_rms = std::sqrt(bin.z_rms / bin_mass[b]);
     bin.mdot = -std::numbers::pi * (bin.r_lo + bin.r_hi) * bin.sigma * bin.vr;
   }
   return d;
@@ -89,12 +93,18 @@ std::string disc_profiles_table(const DiscProfiles& d) {
                   (d.mass + d.accreted_mass) / d.initial_mass - 1.0);
     os << line;
   }
-  os << "#   r_lo        r_hi      count   Sigma         v_r           v_r_drift     j             Mdot_in\n";
+  os << "#   r_lo        r_hi      count   Sigma         v_r           v_r_drift     j             Mdot_in"
+     << (d.heights ? "       z_rms         z_rms/R\n" : "\n");
   for (const DiscBin& b : d.bins) {
     if (b.count == 0) continue;
-    std::snprintf(line, sizeof line, "%11.5g %11.5g %7zu %13.5e %13.5e %13.5e %13.5e %13.5e\n", b.r_lo, b.r_hi, b.count,
+    std::snprintf(line, sizeof line, "%11.5g %11.5g %7zu %13.5e %13.5e %13.5e %13.5e %13.5e", b.r_lo, b.r_hi, b.count,
                   b.sigma, b.vr, b.vr_drift, b.j, b.mdot);
     os << line;
+    if (d.heights) {
+      std::snprintf(line, sizeof line, " %13.5e %13.5e", b.z_rms, 2.0 * b.z_rms / (b.r_lo + b.r_hi));
+      os << line;
+    }
+    os << "\n";
   }
   return os.str();
 }
@@ -109,7 +119,9 @@ std::string disc_profiles_json(const DiscProfiles& d) {
   for (const DiscBin& b : d.bins) {
     os << (first ? "\n" : ",\n") << "    {\"r_lo\": " << b.r_lo << ", \"r_hi\": " << b.r_hi << ", \"count\": " << b.count
        << ", \"sigma\": " << b.sigma << ", \"vr\": " << b.vr << ", \"vr_drift\": " << b.vr_drift << ", \"j\": " << b.j
-       << ", \"mdot_in\": " << b.mdot << "}";
+       << ", \"mdot_in\": " << b.mdot;
+    if (d.heights) os << ", \"z_rms\": " << b.z_rms;
+    os << "}";
     first = false;
   }
   os << "\n  ]\n}\n";

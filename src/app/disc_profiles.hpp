@@ -1,5 +1,5 @@
 #pragma once
-// Radial profiles of any 2D disc around the point mass (docs/physics.md sec. 4 "Diagnostics"):
+// Radial profiles of any disc around the point mass (a 3D one seen from above, with its heights) (docs/physics.md sec. 4 "Diagnostics"):
 // what `sphdisk analyze` reports for runs that are not the viscous ring, which has an analytic
 // solution (ring_analysis.hpp). Bins of equal width in r between the innermost and outermost
 // particle, or a given range.
@@ -19,6 +19,7 @@ struct DiscBin {
   double vr_drift = 0;  // mass-weighted mean guiding-centre drift 2 j (dj/dt) / (G M): v_r without epicycles
   double j = 0;         // mass-weighted mean specific angular momentum x v_y - y v_x
   double mdot = 0;      // mass flux through the annulus' mid radius, inward positive: -2 pi r Sigma <v_r>
+  double z_rms = 0;     // 3D: the mass-weighted rms height (the scale height H of a Gaussian layer)
 };
 
 struct DiscProfiles {
@@ -28,6 +29,7 @@ struct DiscProfiles {
   double accreted_mass = 0;  // by the point mass (Header AccretedMass)
   double initial_mass = 0;   // Header DiskMass (0: not recorded)
   double gm = 1;             // G M of the point mass in the file's units
+  bool heights = false;      // 3D: the bins' z_rms are filled in
   std::vector<DiscBin> bins;
 };
 
@@ -36,8 +38,9 @@ struct DiscProfiles {
 bool is_ring_snapshot(const SnapshotMeta& meta);
 
 // nbins bins over [r_min, r_max] in the file's length unit; r_max <= r_min: the particles' extent.
+// z: a 3D run's heights, one per particle (null in 2D).
 DiscProfiles disc_profiles(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0,
-                           double r_max = 0);
+                           double r_max = 0, const std::vector<double>* z = nullptr);
 
 std::string disc_profiles_table(const DiscProfiles& d);
 std::string disc_profiles_json(const DiscProfiles& d);

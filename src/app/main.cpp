@@ -9,6 +9,7 @@
 #include <iostream>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "app/ring_analysis.hpp"
 #include "app/run_directory.hpp"
@@ -35,16 +36,21 @@ namespace {
 int cmd_analyze(const std::string& path, const std::string& json_path, int bins) {
   sphdisk::SnapshotMeta meta;
   // Kept in the file's own code units, in which the ring header values are given; a 3D run's
-  // particles seen from above (vertically integrated by the radial bins).
-  const auto p = sphdisk::snapshot_dimension(path) == 3 ? sphdisk::seen_from_above(sphdisk::read_snapshot<3>(path, nullptr, meta))
-                                                        : sphdisk::read_snapshot<2>(path, nullptr, meta);
+  // particles seen from above (vertically integrated by the radial bins), their heights kept aside.
+  std::vector<double> heights;
+  const auto p = [&] {
+    if (sphdisk::snapshot_dimension(path) != 3) return sphdisk::read_snapshot<2>(path, nullptr, meta);
+    const auto p3 = sphdisk::read_snapshot<3>(path, nullptr, meta);
+    for (const auto& x : p3.pos) heights.push_back(x[2]);
+    return sphdisk::seen_from_above(p3);
+  }();
   // The ring against its analytic solution; any other disc as radial profiles.
   std::string table, json;
   if (sphdisk::is_ring_snapshot(meta)) {
     const auto c = sphdisk::compare_ring(p, meta, bins);
     table = sphdisk::ring_comparison_table(c), json = sphdisk::ring_comparison_json(c);
   } else {
-    const auto d = sphdisk::disc_profiles(p, meta, bins);
+    const auto d = sphdisk::disc_profiles(p, meta, bins, 0, 0, heights.empty() ? nullptr : &heights);
     table = sphdisk::disc_profiles_table(d), json = sphdisk::disc_profiles_json(d);
   }
   std::cout << table;
@@ -239,7 +245,7 @@ int main(int argc, char** argv) {
       // The accuracy table of the last output's snapshot (the README's main job ends with it); a run
       // stopped by run.max_steps has not reached it.
       const std::string path = sphdisk::snapshot_name(summary.output_dir, cfg.output_count());
-      if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty()))
+      if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty() || cfg.problem == "disc"))
         return cmd_analyze(path, "", 50);
       return 0;
     }

@@ -96,7 +96,8 @@ else bad "a 3D snapshot as 2D: unexpected message: $out"; fi
 
 # The power-law disc of configs/disc_phantom_like.toml (alpha viscosity), small and short.
 disc=(-q --set problem.particles=3000 --set 'output.orbits=[0.02, 0.04]' "$(dirname "$0")/../../configs/disc_phantom_like.toml")
-for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" -o "$work/disc$t" > /dev/null || bad "3D disc run ($t threads)"; done
+for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" -o "$work/disc$t" > "$work/disc$t.out" || bad "3D disc run ($t threads)"; done
+if grep -q "z_rms/R" "$work/disc1.out"; then ok "3D disc: the run ends with its profiles"; else bad "3D disc: no profiles at the run's end"; fi
 if same_snapshots "$work/disc1" "$work/disc3"; then ok "3D disc: same snapshots with 1 and 3 threads"; else bad "3D disc: snapshots differ between 1 and 3 threads"; fi
 # With the artificial viscosity (its limiter crosses the ranks with the stress; its signal speeds set steps).
 for t in 1 3; do OMP_NUM_THREADS=$t "$sphdisk" run "${disc[@]}" --set physics.av_alpha=1 -o "$work/av$t" > /dev/null || bad "3D disc with AV ($t threads)"; done
@@ -113,7 +114,8 @@ if [ -n "$mpiexec" ]; then
   else bad "3D disc, artificial viscosity: snapshots differ on 3 ranks"; fi
 fi
 out=$("$sphdisk" analyze "$work/disc1/snapshot_002.hdf5")
-if [[ $out == *"Mdot_in"* && $out == *"mass budget"* && $out != *"spreading rate"* ]]; then ok "3D disc: analyze gives its radial profiles"
+if [[ $out == *"Mdot_in"* && $out == *"z_rms/R"* && $out == *"mass budget"* && $out != *"spreading rate"* ]]; then
+  ok "3D disc: analyze gives its radial profiles with the scale heights"
 else bad "3D disc: analyze output: $out"; fi
 
 if "$sphdisk" report "$work/t1" > /dev/null 2>&1 && grep -q "3D run: the particle" "$work/t1/report/report.md"; then
