@@ -182,11 +182,11 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       const Vec<D> xij = xi - d.pos[j], vij = vi - d.vel[j];
       PairTerms<double> Pr{Pr_i, d.p_over_rho2[j]};
       if (d.sound_speed) {  // artificial viscosity: q / rho^2 on top of P / rho^2
-        const double ci = d.sound_speed[i], cj = d.sound_speed[j];
-        const PairTerms<double> q = artificial_viscosity_pair(xij, vij, ci, cj, inv_rho_i, d.inv_rho[j], d.limiter ? d.limiter[i] : 1.0,
+        const double ci = d.sound_speed[i], cj = d.sound_speed[j], w = approach_speed(xij, vij);
+        const PairTerms<double> q = artificial_viscosity_pair(w, ci, cj, inv_rho_i, d.inv_rho[j], d.limiter ? d.limiter[i] : 1.0,
                                                               d.limiter ? d.limiter[j] : 1.0, d.av_alpha, d.av_beta);
         Pr.to_i += q.to_i, Pr.to_j += q.to_j;
-        const double s = pair_signal_speed(xij, vij, ci, cj, d.av_beta);
+        const double s = pair_signal_speed(w, ci, cj, d.av_beta);
         signal_i = std::max(signal_i, s);
         if (j < d.writable) d.signal_speed[j] = std::max(d.signal_speed[j], s);
       }

@@ -174,29 +174,30 @@ constexpr Vec<D> pressure_pair(double Pr_i, double Pr_j, const Vec<D>& g) {
   return g * (Pr_i + Pr_j);
 }
 
-// Artificial viscosity (Monaghan 1997 with the signal velocity; Phantom's q_ab, Price et al. 2018
-// eqs. 40-41): for an approaching pair, w = v_ij . x_ij / |x_ij| < 0, each particle's
-//   q_i / rho_i^2 = -1/2 f_i (alpha c_i + beta |w|) w / rho_i,
-// zero for a receding pair. Added to the particle's P / rho^2 in pressure_pair and
-// pressure_work_pair it gives a repulsion along the pair, and its heating, with the pressure force's
-// conservation. f: the Balsara limiter (1: none). xij = x_i - x_j, vij = v_i - v_j.
+// The pair's velocity along its separation, w = v_ij . x_ij / |x_ij| (xij = x_i - x_j, vij = v_i -
+// v_j): negative for an approaching pair. Zero for a receding one, which the artificial viscosity and
+// the signal speed below leave alone.
 template <int D>
-constexpr PairTerms<double> artificial_viscosity_pair(const Vec<D>& xij, const Vec<D>& vij, double c_i, double c_j,
-                                                      double inv_rho_i, double inv_rho_j, double f_i, double f_j,
-                                                      double alpha, double beta) {
+double approach_speed(const Vec<D>& xij, const Vec<D>& vij) {
   const double approach = dot(vij, xij);
-  if (!(approach < 0)) return {0.0, 0.0};
-  const double w = approach / std::sqrt(norm2(xij));
+  return approach < 0 ? approach / std::sqrt(norm2(xij)) : 0.0;
+}
+
+// Artificial viscosity (Monaghan 1997 with the signal velocity; Phantom's q_ab, Price et al. 2018
+// eqs. 40-41): for an approaching pair, w = approach_speed < 0, each particle's
+//   q_i / rho_i^2 = -1/2 f_i (alpha c_i + beta |w|) w / rho_i,
+// zero for a receding pair (w = 0). Added to the particle's P / rho^2 in pressure_pair and
+// pressure_work_pair it gives a repulsion along the pair, and its heating, with the pressure force's
+// conservation. f: the Balsara limiter (1: none).
+constexpr PairTerms<double> artificial_viscosity_pair(double w, double c_i, double c_j, double inv_rho_i, double inv_rho_j,
+                                                      double f_i, double f_j, double alpha, double beta) {
   return {-0.5 * f_i * (alpha * c_i - beta * w) * w * inv_rho_i, -0.5 * f_j * (alpha * c_j - beta * w) * w * inv_rho_j};
 }
 
 // The pair's signal speed for the step limit (timestep.hpp): the larger sound speed, plus beta times
-// the approach speed of an approaching pair.
-template <int D>
-constexpr double pair_signal_speed(const Vec<D>& xij, const Vec<D>& vij, double c_i, double c_j, double beta) {
-  const double approach = dot(vij, xij);
-  const double c = c_i > c_j ? c_i : c_j;
-  return approach < 0 ? c - beta * approach / std::sqrt(norm2(xij)) : c;
+// the approach speed |w| of an approaching pair.
+constexpr double pair_signal_speed(double w, double c_i, double c_j, double beta) {
+  return (c_i > c_j ? c_i : c_j) - beta * w;
 }
 
 // The pressure work of the pair, Pr = P / rho^2 and vij = v_i - v_j:

@@ -17,19 +17,22 @@ TEST(ArtificialViscosity, PairTermActsOnApproachingPairsOnly) {
   const Vec<3> closing{{-0.6, -0.8, 0.0}}, opening{{0.6, 0.8, 0.0}}, sliding{{0.8, -0.6, 0.0}};
   const double c_i = 0.1, c_j = 0.2, alpha = 1.0, beta = 2.0, inv_rho_i = 2.0, inv_rho_j = 4.0;
   // w = v_ij . x_ij / |x_ij| = -1: q_i / rho_i^2 = -1/2 (alpha c_i + beta) (-1) / rho_i.
-  const PairTerms<double> q = artificial_viscosity_pair(xij, closing, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
+  EXPECT_DOUBLE_EQ(approach_speed(xij, closing), -1.0);
+  const double w = approach_speed(xij, closing);
+  const PairTerms<double> q = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
   EXPECT_DOUBLE_EQ(q.to_i, 0.5 * (0.1 + 2.0) * 2.0);
   EXPECT_DOUBLE_EQ(q.to_j, 0.5 * (0.2 + 2.0) * 4.0);
-  const PairTerms<double> limited = artificial_viscosity_pair(xij, closing, c_i, c_j, inv_rho_i, inv_rho_j, 0.25, 0.5, alpha, beta);
+  const PairTerms<double> limited = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 0.25, 0.5, alpha, beta);
   EXPECT_DOUBLE_EQ(limited.to_i, 0.25 * q.to_i);
   EXPECT_DOUBLE_EQ(limited.to_j, 0.5 * q.to_j);
   for (const Vec<3>& v : {opening, sliding}) {
-    const PairTerms<double> none = artificial_viscosity_pair(xij, v, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
+    EXPECT_EQ(approach_speed(xij, v), 0.0);
+    const PairTerms<double> none = artificial_viscosity_pair(approach_speed(xij, v), c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
     EXPECT_EQ(none.to_i, 0.0);
     EXPECT_EQ(none.to_j, 0.0);
   }
-  EXPECT_DOUBLE_EQ(pair_signal_speed(xij, closing, c_i, c_j, beta), 0.2 + 2.0);
-  EXPECT_DOUBLE_EQ(pair_signal_speed(xij, opening, c_i, c_j, beta), 0.2);
+  EXPECT_DOUBLE_EQ(pair_signal_speed(w, c_i, c_j, beta), 0.2 + 2.0);
+  EXPECT_DOUBLE_EQ(pair_signal_speed(approach_speed(xij, opening), c_i, c_j, beta), 0.2);
 }
 
 TEST(ArtificialViscosity, BalsaraLimiterIsOffInShearAndOnInCompression) {
