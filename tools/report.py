@@ -8,8 +8,9 @@ optionally diagnostics.csv, timers.json, ranks.json and scaling.csv. report.md o
 (what ran, the ring's verdict figures, conservation), then the figures (PNG at 300 dpi and PDF, journal
 column widths), then the details. Ring runs (ring_model.is_ring_run) are compared with the analytic
 ring, P98 eqs. 11-12 in code units (G = M = 1), following the paper's sec. 5 (Figs. 3, 5-10); any other
-disc gets radial profiles without analytic curves (disc_profiles.py). Every run gets column-density
-maps of its outputs (report_images.py) and profiles.csv.
+disc gets radial profiles without analytic curves (disc_profiles.py). Every disc run gets column-density
+maps of its outputs (report_images.py) and profiles.csv. A blast wave (Header Problem "sedov") gets
+its profiles against the Sedov-Taylor solution instead (sedov_report.py).
 Exit status: 0 on success, 2 when DIR is missing or holds no snapshots, 1 on any other error
 (always with a one-line message on stderr).
 """
@@ -33,6 +34,7 @@ from ring_model import (BIN_RANGE, N_BINS, SCATTER_CUT, Ring, annulus_mean_analy
                         l1_against, ring_from_header, sampling_floor, snapshot_tau)
 from run_data import (SNAPSHOT_RE, UsageError, load_run, read_csv_columns, read_particles,  # noqa: E402
                       survey)
+from sedov_report import is_sedov_run, write_report as write_sedov_report  # noqa: E402
 
 TAU_FIGURES = 0.09            # ring snapshot shown in Figs. 5-7 (paper: tau = 0.09)
 
@@ -285,9 +287,13 @@ def draw_run_figures(run, out_dir):
         run.figures.append(("Fig. 10: communication time against workers (scaling.csv)", FIG_COMM))
 
 
-def make_report(run_dir, out_dir):
+def make_report(run_dir, out_dir, sphdisk=None):
     run = load_run(run_dir)
     os.makedirs(out_dir, exist_ok=True)
+    if is_sedov_run(run.headers[0]):
+        if not sphdisk:
+            raise UsageError("a blast wave's report needs the sphdisk binary for its solution: give --sphdisk PATH")
+        return write_sedov_report(run, sphdisk, out_dir)
     all_stats, profiles = draw_snapshot_figures(run, out_dir)
     draw_disc_figures(run, all_stats, profiles, out_dir)
     draw_run_figures(run, out_dir)
@@ -301,6 +307,8 @@ def parse_args(argv):
     p.add_argument("run_dir", metavar="DIR")
     p.add_argument("--out", metavar="OUTDIR", help="output folder (default DIR/report)")
     p.add_argument("--traceback", action="store_true", help="show the full traceback on errors")
+    p.add_argument("--sphdisk", metavar="PATH", help="the sphdisk binary (`sphdisk report` passes itself): a blast "
+                   "wave's report takes its similarity solution from `sphdisk analyze`")
     return p.parse_args(argv)
 
 
@@ -308,7 +316,7 @@ def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     out_dir = args.out or os.path.join(args.run_dir, "report")
     try:
-        md = make_report(args.run_dir, out_dir)
+        md = make_report(args.run_dir, out_dir, args.sphdisk)
     except UsageError as e:
         print(f"report.py: error: {e}", file=sys.stderr)
         return 2

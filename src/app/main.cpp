@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/ring_analysis.hpp"
+#include "app/sedov_analysis.hpp"
 #include "app/run_directory.hpp"
 #include "app/run_log.hpp"
 #include "app/simulation.hpp"
@@ -32,21 +33,32 @@
 
 namespace {
 
-// The comparison with the analytic ring; at the end of a run also into its run.log.
+// The comparison with an analytic solution, or a disc's profiles; at the end of a run also into its run.log.
 int cmd_analyze(const std::string& path, const std::string& json_path, int bins) {
   sphdisk::SnapshotMeta meta;
-  // Kept in the file's own code units, in which the ring header values are given; a 3D run's
-  // particles seen from above (vertically integrated by the radial bins), their heights kept aside.
-  std::vector<double> heights;
-  const auto p = [&] {
-    if (sphdisk::snapshot_dimension(path) != 3) return sphdisk::read_snapshot<2>(path, nullptr, meta);
-    const auto p3 = sphdisk::read_snapshot<3>(path, nullptr, meta);
-    for (const auto& x : p3.pos) heights.push_back(x[2]);
-    return sphdisk::seen_from_above(p3);
-  }();
-  // The ring against its analytic solution; any other disc as radial profiles.
+  // Kept in the file's own code units, in which the ring header values are given. A blast wave
+  // against its similarity solution; a 3D disc's particles seen from above (vertically integrated
+  // by the radial bins), their heights kept aside; the ring against its analytic solution, any
+  // other disc as radial profiles.
   std::string table, json;
-  if (sphdisk::is_ring_snapshot(meta)) {
+  auto sedov = [&](const auto& particles) {
+    const auto c = sphdisk::compare_sedov(particles, meta, bins);
+    table = sphdisk::sedov_comparison_table(c), json = sphdisk::sedov_comparison_json(c);
+  };
+  std::vector<double> heights;
+  sphdisk::Particles<2> p;
+  if (sphdisk::snapshot_dimension(path) != 3) {
+    p = sphdisk::read_snapshot<2>(path, nullptr, meta);
+    if (meta.problem == "sedov") sedov(p);
+  } else {
+    const auto p3 = sphdisk::read_snapshot<3>(path, nullptr, meta);
+    if (meta.problem == "sedov") sedov(p3);
+    for (const auto& x : p3.pos) heights.push_back(x[2]);
+    p = sphdisk::seen_from_above(p3);
+  }
+  if (meta.problem == "sedov") {
+    // (compared above, in the run's own dimension)
+  } else if (sphdisk::is_ring_snapshot(meta)) {
     const auto c = sphdisk::compare_ring(p, meta, bins);
     table = sphdisk::ring_comparison_table(c), json = sphdisk::ring_comparison_json(c);
   } else {
@@ -73,7 +85,10 @@ int report_interrupted(const sphdisk::RunSummary& summary) {
 int cmd_report(const std::string& dir) {
   const std::string script = std::string(SPHDISK_SOURCE_DIR) + "/tools/report.py";
   if (!std::filesystem::exists(script)) throw sphdisk::UserError("report script '" + script + "' not found");
-  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir + "'";
+  // The binary itself: a blast wave's report takes its similarity solution from `sphdisk analyze`.
+  std::error_code ec;
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir + "'" + (self.empty() ? "" : " --sphdisk '" + self + "'");
   const int rc = std::system(cmd.c_str());
   return rc == 0 ? 0 : 2;
 }
@@ -198,7 +213,7 @@ int main(int argc, char** argv) {
   resume->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   resume->add_flag("--quiet,-q", quiet, "no progress lines");
 
-  CLI::App* analyze = app.add_subcommand("analyze", "compare a ring snapshot with the analytic solution");
+  CLI::App* analyze = app.add_subcommand("analyze", "compare a snapshot with its analytic solution (the ring, a blast wave) or give a disc's radial profiles");
   analyze->add_option("snapshot", snapshot, "snapshot file (HDF5)")->required();
   analyze->add_option("--json", json_path, "also write the comparison as JSON");
   analyze->add_option("--bins", bins, "number of radial bins over 0.05-2.05 r0")->check(CLI::Range(1, 100000));
@@ -245,7 +260,7 @@ int main(int argc, char** argv) {
       // The accuracy table of the last output's snapshot (the README's main job ends with it); a run
       // stopped by run.max_steps has not reached it.
       const std::string path = sphdisk::snapshot_name(summary.output_dir, cfg.output_count());
-      if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty() || cfg.problem == "disc"))
+      if (!summary.stopped_early && std::filesystem::exists(path) && (cfg.viscosity > 0 || !cfg.initial_conditions.empty() || cfg.problem != "ring"))
         return cmd_analyze(path, "", 50);
       return 0;
     }

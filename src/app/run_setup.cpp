@@ -39,6 +39,8 @@ Setup make_setup(const Config& cfg) {
   s.phys.av_alpha = cfg.av_alpha;
   s.phys.av_beta = cfg.av_beta;
   s.phys.av_limiter = cfg.av_limiter == "balsara";
+  s.phys.av_switch = cfg.av_switch == "morris_monaghan";
+  s.phys.av_alpha_min = cfg.av_alpha_min;
   s.phys.gradient_correction = gradient_correction_from_name(cfg.gradient_correction);
   s.phys.force_correction = cfg.force_correction;
   s.phys.viscous_force = viscous_force_from_name(cfg.resolved_viscous_force());
@@ -63,6 +65,13 @@ Setup make_setup(const Config& cfg) {
     s.disc_sampling.stratified = s.ring.stratified;
     s.disc_sampling.sound_speed = s.ring.sound_speed;
     s.disc_sampling.sound_speed_index = s.ring.sound_speed_index;
+  }
+  s.phys.gamma = cfg.gamma;
+  s.sedov = cfg.problem == "sedov";
+  if (s.sedov) {
+    s.phys.gm = 0.0;  // no point mass, nothing to accrete
+    s.phys.accretion_radius = 0.0;
+    s.sedov_blast = SedovBlast{s.ring.particles, cfg.blast_energy, cfg.gamma, cfg.neighbours};
   }
   s.tau_rate = 12.0 * s.phys.nu;
   return s;

@@ -10,6 +10,7 @@
 #include "physics/physics_params.hpp"
 #include "problems/disc_sampling.hpp"
 #include "problems/ring_setup.hpp"
+#include "problems/sedov_blast.hpp"
 
 namespace sphdisk {
 
@@ -19,6 +20,10 @@ struct Setup {
   RingSetup ring;
   bool disc = false;        // problem.type = "disc": the particles from disc_sampling, not the ring
   DiscSampling disc_sampling;
+  bool sedov = false;       // problem.type = "sedov": the blast wave (no point mass), not the ring
+  SedovBlast sedov_blast;
+  // The set-up's name, as snapshots record it (Header Problem).
+  const char* problem_name() const { return sedov ? "sedov" : disc ? "disc" : "ring"; }
   double tau_rate;  // d tau / dt (r0 = 1); nu = 0 (pure Kepler test): tau then stands for the time
   double tau_of_time(double t) const { return tau_rate > 0 ? t * tau_rate : t; }
   double time_of_tau(double tau) const { return tau_rate > 0 ? tau / tau_rate : tau; }

@@ -71,11 +71,11 @@ Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Pa
   t_out_ = output_times(cfg, setup_);
   meta_.viscosity = setup_.phys.nu;
   meta_.ring_radius = 1.0;
-  meta_.disc_mass = setup_.ring.solution.disc_mass;
+  meta_.disc_mass = setup_.sedov ? 1.0 : setup_.ring.solution.disc_mass;  // (the blast wave's cube: mass 1)
   meta_.energy = cfg.evolve_energy;
   meta_.units = setup_.units;
   meta_.parameters = cfg.resolved;
-  meta_.problem = !cfg.initial_conditions.empty() ? "initial_conditions" : setup_.disc ? "disc" : "ring";
+  meta_.problem = !cfg.initial_conditions.empty() ? "initial_conditions" : setup_.problem_name();
   meta_.run_id = run_identity(cfg);
   if (distributed()) rates_.set_domain(&domain_);
   rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));
@@ -85,6 +85,10 @@ Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Pa
 
 template <int D>
 void Runner<D>::start() {
+  // Every particle's artificial viscosity starts at its least alpha (the switch raises it where the
+  // flow converges), or at the one alpha without the switch.
+  if (setup_.phys.artificial_viscosity())
+    std::fill(p_.av_alpha.begin(), p_.av_alpha.end(), setup_.phys.av_switch ? setup_.phys.av_alpha_min : setup_.phys.av_alpha);
   accrete_all();
   if (global_count() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
   rebalance();
@@ -99,6 +103,8 @@ void Runner<D>::start() {
 
 template <int D>
 void Runner<D>::restart() {
+  // With the switch each particle's alpha is its own and checkpointed; without it, the one alpha.
+  if (setup_.phys.artificial_viscosity() && !setup_.phys.av_switch) std::fill(p_.av_alpha.begin(), p_.av_alpha.end(), setup_.phys.av_alpha);
   rebalance();
   if (s_.step_state) {
     integrator_->resume_inside_step(s_.integrator);

@@ -78,8 +78,11 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
   } else {
     const auto share = static_cast<std::size_t>(comm.rank()), shares = static_cast<std::size_t>(comm.size());
-    p = setup.disc ? sample_disc<D>(setup.disc_sampling, share, shares) : make_ring<D>(setup.ring, share, shares);
-    state.time = setup.disc ? 0.0 : setup.time_of_tau(cfg.tau_start);  // the ring starts at its viscous time
+    p = setup.sedov  ? make_sedov_blast<D>(setup.sedov_blast, share, shares)
+        : setup.disc ? sample_disc<D>(setup.disc_sampling, share, shares)
+                     : make_ring<D>(setup.ring, share, shares);
+    // The ring starts at its viscous time, the others at t = 0.
+    state.time = setup.disc || setup.sedov ? 0.0 : setup.time_of_tau(cfg.tau_start);
   }
   if (output_times(cfg, setup).back() <= state.time)
     throw UserError("every output time is at or before the initial time (t = " + std::to_string(state.time) + ", tau = " +
@@ -87,7 +90,7 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
   // h: given, or from the target mean neighbour number (analytically for the 2D ring, measured on
   // the particles otherwise). Constant smoothing keeps it for all particles and times (P98 sec.
   // 5.3); adaptive smoothing starts its per-particle solve from it.
-  const bool ring = cfg.initial_conditions.empty() && !setup.disc;
+  const bool ring = cfg.initial_conditions.empty() && !setup.disc && !setup.sedov;
   state.smoothing_length = cfg.smoothing_length > 0 ? cfg.smoothing_length
                            : ring && D == 2         ? ring_smoothing_length(setup.ring, cfg.neighbours)
                                                     : calibrated_smoothing_length(comm, p, cfg.neighbours);
@@ -137,6 +140,7 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   std::vector<std::string> all_overrides = overrides;
   for (const auto& [key, earlier] : {std::pair{"viscous_force", "sph.viscous_force=\"conservative\""},
                                      std::pair{"pair_density", "sph.pair_density=\"summation\""},
+                                     std::pair{"av_switch", "physics.av_switch=\"none\""},
                                      std::pair{"scheme", "integrator.scheme=\"leapfrog\""},
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})

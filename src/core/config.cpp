@@ -159,7 +159,8 @@ KeyDef increasing_list_key(std::string name, std::vector<double> Config::*m, std
 
 const std::vector<KeyDef>& schema() {
   static const std::vector<KeyDef> keys = {
-      string_key("problem.type", &Config::problem, {"ring", "disc"}, "set-up: the viscously spreading ring (P98 sec. 5), or a power-law disc Sigma ~ R^-p between problem.inner_radius and problem.outer_radius (Phantom's set-up; in 3D in vertical equilibrium)"),
+      string_key("problem.type", &Config::problem, {"ring", "disc", "sedov"}, "set-up: the viscously spreading ring (P98 sec. 5), a power-law disc Sigma ~ R^-p between problem.inner_radius and problem.outer_radius (Phantom's set-up; in 3D in vertical equilibrium), or a Sedov-Taylor blast wave (no point mass: a uniform cube, or square in 2D, of side 1 and mass 1 in code units on a lattice of about problem.particles, with problem.blast_energy put into the particles at its centre; needs physics.eos = \"adiabatic\")"),
+      float_key("problem.blast_energy", &Config::blast_energy, positive(), "sedov: the energy put into the central particles, in code units (the cube has side 1 and mass 1; the surrounding gas has a pressure 1e-5 of it per unit volume)"),
       int_key("problem.particles", &Config::particles, 1, 2'000'000'000, "number of SPH particles N"),
       int_key("problem.seed", &Config::seed, 0, (1LL << 62), "seed of the random particle placement (same seed, same particles)"),
       float_key("problem.ring_radius", &Config::ring_radius, positive(), "initial ring radius r0 in solar radii (the code length unit)"),
@@ -174,13 +175,16 @@ const std::vector<KeyDef>& schema() {
       float_key("physics.viscosity", &Config::viscosity, non_negative(), "kinematic shear viscosity nu in solar radii^2 / s"),
       float_key("physics.alpha_ss", &Config::alpha_ss, in_range(0, 10), "Shakura-Sunyaev alpha: nu = alpha c_s H per particle, H = c_s / Omega (Phantom's irealvisc = 2), instead of physics.viscosity (then 0); needs an equation of state, and output.times or output.orbits (no viscous time); 0: the constant physics.viscosity"),
       float_key("physics.bulk_viscosity", &Config::bulk_viscosity, non_negative(), "kinematic bulk viscosity zeta/rho in solar radii^2 / s"),
-      string_key("physics.eos", &Config::eos, {"none", "isothermal", "locally_isothermal"}, "equation of state: none (pressureless, as in the ring test), isothermal (P = c_s^2 rho), locally_isothermal (P = c_s(R)^2 rho, c_s(R) = physics.sound_speed (R / r0)^-physics.sound_speed_index, R the cylindrical radius: Phantom's ieos = 3)"),
+      string_key("physics.eos", &Config::eos, {"none", "isothermal", "locally_isothermal", "adiabatic"}, "equation of state: none (pressureless, as in the ring test), isothermal (P = c_s^2 rho), locally_isothermal (P = c_s(R)^2 rho, c_s(R) = physics.sound_speed (R / r0)^-physics.sound_speed_index, R the cylindrical radius: Phantom's ieos = 3), adiabatic (P = (physics.gamma - 1) rho u with each particle's internal energy u: Phantom's ieos = 2; needs physics.evolve_energy = true)"),
+      float_key("physics.gamma", &Config::gamma, in_range(1.0001, 10), "adiabatic: the adiabatic index gamma of P = (gamma - 1) rho u"),
       float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
       float_key("physics.aspect_ratio", &Config::aspect_ratio, in_range(0, 1), "H/R = c_s / v_Kepler at R = r0, instead of physics.sound_speed (which is then 0): the thickness a locally isothermal or isothermal disc has in vertical equilibrium; 0: physics.sound_speed is given"),
       float_key("physics.sound_speed_index", &Config::sound_speed_index, in_range(-2, 2), "locally_isothermal: q of c_s(R) = c_s (R / r0)^-q (Phantom's qfacdisc; 0.25 for its test disc)"),
       float_key("physics.av_alpha", &Config::av_alpha, in_range(0, 10), "artificial viscosity (Monaghan 1997 with the signal velocity, Phantom's form): alpha of its signal velocity alpha c_s + beta |v_ij . r_ij / r_ij| over approaching pairs; 0: none (the ring's viscosity is physics.viscosity alone); needs an equation of state; its signal speeds limit the steps (integrator.courant_factor)"),
       float_key("physics.av_beta", &Config::av_beta, in_range(0, 10), "artificial viscosity: beta of the signal velocity"),
       string_key("physics.av_limiter", &Config::av_limiter, {"balsara", "none"}, "artificial viscosity: balsara scales each particle's share by |div v| / (|div v| + |curl v| + 1e-4 c_s / h) (Balsara 1995), which keeps it off shear flows such as a Keplerian disc; none: the full alpha everywhere"),
+      string_key("physics.av_switch", &Config::av_switch, {"morris_monaghan", "none"}, "artificial viscosity: morris_monaghan gives each particle its own alpha, raised towards physics.av_alpha where the flow converges (max(-div v, 0)) and decaying to physics.av_alpha_min over ~10 sound-crossing times of its kernel (Morris & Monaghan 1997, decay constant 0.1): shock capturing where there are shocks only; none: alpha = physics.av_alpha everywhere"),
+      float_key("physics.av_alpha_min", &Config::av_alpha_min, in_range(0, 10), "artificial viscosity with physics.av_switch = \"morris_monaghan\": the alpha each particle decays to away from shocks (at most physics.av_alpha)"),
       bool_key("physics.evolve_energy", &Config::evolve_energy, "integrate the internal energy (viscous heating)"),
       float_key("physics.accretion_radius", &Config::accretion_radius, non_negative(), "accretion radius in units of ring_radius"),
       int_key("sph.dimension", &Config::dimension, 2, 3, "spatial dimension"),
@@ -367,7 +371,7 @@ void check_consistency(const Config& c) {
                     " must be below problem.inner_radius = " + toml_text(c.inner_radius) + " (particles inside are removed)");
   if (disc && c.output_times.empty() && c.output_orbits.empty())
     throw UserError("config: a disc has no viscous time tau of its own; give output.times or output.orbits");
-  if (!disc && c.accretion_radius >= 1.0)
+  if (!disc && c.problem != "sedov" && c.accretion_radius >= 1.0)
     throw UserError("config: physics.accretion_radius = " + toml_text(c.accretion_radius) +
                     " must be < 1 (it is in units of ring_radius: particles inside are removed)");
   if (!c.output_times.empty() && !c.output_orbits.empty())
@@ -384,11 +388,32 @@ void check_consistency(const Config& c) {
     throw UserError("config: with physics.alpha_ss > 0 there is no viscous time tau; give output.times or output.orbits");
   if (c.sound_speed > 0 && c.aspect_ratio > 0)
     throw UserError("config: give the sound speed once: physics.sound_speed (km/s) or physics.aspect_ratio (H/R at r0), not both");
-  if (c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0)
+  const bool adiabatic = c.eos == "adiabatic";
+  if (adiabatic && !c.evolve_energy)
+    throw UserError("config: physics.eos = \"adiabatic\" takes the pressure from each particle's internal energy; set physics.evolve_energy = true");
+  if (adiabatic && (c.sound_speed > 0 || c.aspect_ratio > 0))
+    throw UserError("config: physics.eos = \"adiabatic\" has each particle's own sound speed; set physics.sound_speed = 0 and physics.aspect_ratio = 0");
+  if (adiabatic && c.alpha_ss > 0)
+    throw UserError("config: physics.alpha_ss needs the sound speed of physics.eos = \"locally_isothermal\" or \"isothermal\", not \"adiabatic\"");
+  if (adiabatic && c.initial_conditions.empty() && c.problem != "sedov")
+    throw UserError("config: physics.eos = \"adiabatic\" needs each particle's internal energy: use problem.type = \"sedov\", or "
+                    "problem.initial_conditions with InternalEnergy");
+  if (adiabatic && c.scheme != "leapfrog" && c.scheme != "respa")
+    throw UserError("config: physics.eos = \"adiabatic\" runs with integrator.scheme = \"leapfrog\" or \"respa\": block steps have no "
+                    "limiter that wakes the particles a shock reaches, and the Runge-Kutta error control stalls at a blast's start");
+  const bool sedov = c.problem == "sedov" && c.initial_conditions.empty();
+  if (sedov && !adiabatic)
+    throw UserError("config: problem.type = \"sedov\" is a blast wave in an ideal gas: set physics.eos = \"adiabatic\" and physics.evolve_energy = true");
+  if (sedov && c.output_times.empty())
+    throw UserError("config: a blast wave has neither viscous time nor orbits; give output.times (code units)");
+  if (!adiabatic && c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0)
     throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s) or physics.aspect_ratio > 0 (H/R at r0)");
   if (c.av_alpha > 0 && c.eos == "none")
     throw UserError("config: physics.av_alpha > 0 needs a sound speed for its signal velocity: set physics.eos with "
                     "physics.aspect_ratio or physics.sound_speed");
+  if (c.av_alpha > 0 && c.av_switch == "morris_monaghan" && c.av_alpha_min > c.av_alpha)
+    throw UserError("config: physics.av_alpha_min = " + toml_text(c.av_alpha_min) + " is above physics.av_alpha = " + toml_text(c.av_alpha) +
+                    ", the largest alpha the switch gives; lower physics.av_alpha_min or raise physics.av_alpha");
   if (c.eos == "none" && c.aspect_ratio > 0)
     throw UserError("config: physics.aspect_ratio sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
   if (c.dimension == 3 && c.eos == "none" && c.initial_conditions.empty())

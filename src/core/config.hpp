@@ -18,6 +18,7 @@ struct Config {
   double disc_mass = 1e-10;          // solar masses
   double inner_radius = 1.0, outer_radius = 5.0;  // disc: R_in, R_out in units of ring_radius
   double sigma_index = 1.0;          // disc: p of Sigma ~ R^-p
+  double blast_energy = 1.0;         // sedov: code units
   double tau_start = 0.018;          // viscous time of the initial conditions (P98 5.2)
   std::string placement = "random";  // random | stratified
   std::string initial_conditions;    // HDF5 snapshot to start from instead of generating
@@ -26,11 +27,14 @@ struct Config {
   double viscosity = 3e-8;         // kinematic shear viscosity, solar radii^2 / s
   double bulk_viscosity = 0.0;     // kinematic bulk viscosity, solar radii^2 / s
   double alpha_ss = 0;  // > 0: nu = alpha c_s H per particle instead of viscosity (physics_params.hpp)
-  std::string eos = "none";        // none | isothermal
+  std::string eos = "none";        // none | isothermal | locally_isothermal | adiabatic
+  double gamma = 5.0 / 3.0;        // adiabatic index
   double sound_speed = 0.0;        // km/s (isothermal)
   double aspect_ratio = 0;        // H/R at R = r0, instead of sound_speed (0: not given)
   double av_alpha = 0, av_beta = 2;  // artificial viscosity (0: none)
   std::string av_limiter = "balsara";  // balsara | none
+  std::string av_switch = "morris_monaghan";  // morris_monaghan | none
+  double av_alpha_min = 0.1;
   double sound_speed_index = 0;  // locally isothermal: q of c_s(R) = c_s (R / r0)^-q
   bool evolve_energy = false;
   double accretion_radius = 0.05;  // in units of ring_radius

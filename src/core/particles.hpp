@@ -76,8 +76,13 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)     \
   X(step_ticks, Ticks, "StepTicks",      kStepState,                            0,  0,  0)     \
   X(v_kick, Vector, "KickedVelocity",    kStepState,                            1,  0, -1)     \
-  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)
+  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)   \
+  X(av_alpha, Scalar, "ViscosityAlpha",  kSnapshot | kCheckpoint | kArtificialViscosityOnly | kHaloStress, 0, 0, 0) \
+  X(compression, Scalar, "Compression",  kArtificialViscosityOnly,              0,  0, -1)
 // clang-format on
+// av_alpha, compression: the artificial viscosity's alpha of each particle, and the rate max(-div v, 0)
+// of the last evaluation that drives its time-dependent switch (physics/viscosity_switch.hpp); last,
+// so that the checkpoints' checksums of the fields before them keep their field indices.
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
 // resumed run starts its solves where the uninterrupted one would.

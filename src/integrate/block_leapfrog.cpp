@@ -53,6 +53,7 @@
 #include "integrate/integrator.hpp"
 #include "integrate/orbit_drift.hpp"
 #include "integrate/super_steps.hpp"
+#include "physics/viscosity_switch.hpp"
 
 namespace sphdisk {
 
@@ -170,10 +171,12 @@ class BlockLeapfrog final : public Integrator<D> {
       } else {
         rates_.evaluate(p, active);
         ScopedPhase timer(rates_.timers(), "integration");
+        const bool switching = phys.artificial_viscosity() && phys.av_switch;
         par::for_each(active, [&](std::size_t i) {
-          const double half = 0.5 * static_cast<double>(length_of(p, i)) * tick;
+          const double length = static_cast<double>(length_of(p, i)) * tick, half = 0.5 * length;
           p.vel[i] = p.v_kick[i] + p.acc[i] * half;  // closing kick
           if (energy) p.u[i] = p.u_kick[i] + p.du_dt[i] * half;
+          if (switching) advance_viscosity_switch(p, i, length, phys);
         }, "integration");
       }
       if (next != kTicks) {

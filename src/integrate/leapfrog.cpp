@@ -21,6 +21,7 @@
 
 #include "integrate/integrator.hpp"
 #include "integrate/point_mass_drift.hpp"
+#include "physics/viscosity_switch.hpp"
 
 namespace sphdisk {
 
@@ -62,9 +63,11 @@ class Leapfrog final : public Integrator<D> {
     }
     rates_.evaluate(p);
     ScopedPhase timer(rates_.timers(), "integration");
+    const bool switching = phys.artificial_viscosity() && phys.av_switch;
     par::for_each(n, [&](std::size_t i) {
       p.vel[i] = v_half_[i] + p.acc[i] * half;          // kick
       if (energy) p.u[i] = u_half_[i] + p.du_dt[i] * half;
+      if (switching) advance_viscosity_switch(p, i, dt, phys);
     }, "integration");
     return dt;
   }

@@ -11,6 +11,7 @@
 
 #include "core/named_choice.hpp"
 #include "integrate/integrator.hpp"
+#include "physics/viscosity_switch.hpp"
 
 namespace sphdisk {
 
@@ -75,6 +76,8 @@ class EmbeddedRungeKutta final : public Integrator<D> {
       const double err = attempt(p, dt);
       const double grow = err > 0 ? 0.9 * std::pow(err, -1.0 / tab_.error_order) : 5.0;
       if (err <= 1.0) {
+        if (phys.artificial_viscosity() && phys.av_switch)
+          par::for_each(p.size(), [&](std::size_t i) { advance_viscosity_switch(p, i, dt, phys); }, "integration");
         // A step shortened only to hit dt_cap (an output time) must not shrink the next one.
         const double proposed = dt * std::clamp(grow, 0.2, 5.0);
         dt_next_ = dt < dt_next_ ? std::max(dt_next_, proposed) : proposed;

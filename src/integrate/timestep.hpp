@@ -25,6 +25,7 @@ struct TimestepFactors {
   double substep = 0.05;
 };
 
+// (infinite without a point mass: gm = 0)
 inline double orbital_timestep(double r, double gm, double factor) { return factor * std::sqrt(r * r * r / gm); }
 
 inline double force_timestep(double h, double a, double factor) {
@@ -49,7 +50,7 @@ double particle_timestep(const Particles<D>& p, std::size_t i, const PhysicsPara
   // With artificial viscosity the Courant limit takes the largest signal speed of the particle's
   // pairs, sound speed plus beta times an approach speed (Phantom's dtcourant).
   if (!p.signal_speed.empty() && p.signal_speed[i] > 0) dt = std::min(dt, f.courant * p.h[i] / p.signal_speed[i]);
-  return std::min(dt, stability_timestep(p.h[i], largest_viscosity_at(phys, p.pos[i]), sound_speed_at(phys, p.pos[i]), phys, f));
+  return std::min(dt, stability_timestep(p.h[i], largest_viscosity_at(phys, p.pos[i]), particle_sound_speed(p, i, phys), phys, f));
 }
 
 // Smallest dt_of(i) over the particles; min is exact, so it does not depend on thread count.
@@ -68,7 +69,7 @@ double explicit_timestep(const Particles<D>& p, const PhysicsParams& phys, const
 template <int D>
 double largest_sound_speed(const Particles<D>& p, const PhysicsParams& phys) {
   return par::reduce(
-      p.size(), 0.0, [&](std::size_t i) { return sound_speed_at(phys, p.pos[i]); },
+      p.size(), 0.0, [&](std::size_t i) { return particle_sound_speed(p, i, phys); },
       [](double a, double b) { return std::max(a, b); });
 }
 template <int D>

@@ -34,10 +34,18 @@ namespace {
 // without it (their configurations name the linear or no gradient correction).
 // Format 8 (2026-12-05): the artificial viscosity's limiter and signal speeds (kRateState fields,
 // absent where unused: kArtificialViscosityOnly), which earlier files never hold.
-constexpr long long kFormatVersion = 8;
+// Format 9 (2026-12-05): each particle's artificial-viscosity alpha (av_alpha, kCheckpoint, absent
+// where unused), which a format-8 file with the artificial viscosity lacks: its run had one alpha
+// for all (resumed without the switch, app/simulation.cpp), set anew on resume (app/runner.cpp).
+constexpr long long kFormatVersion = 9;
 constexpr long long kOldestFormatRead = 2;
 
-bool added_in_format3(std::string_view field) { return field == "h_prev" || field == "h_prev2"; }
+// The format that added a checkpoint field to files that could have held it before (0: none).
+long long format_that_added(std::string_view field) {
+  if (field == "h_prev" || field == "h_prev2") return 3;
+  if (field == "av_alpha") return 9;
+  return 0;
+}
 
 // FNV-1a, 64 bit: cheap and order-sensitive, enough to detect corruption (not tampering).
 struct Checksum {
@@ -240,8 +248,8 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
   for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     const std::string name(info.name);
-    if (out.version < 3 && added_in_format3(name) && !h5::exists(parts, name)) {
-      field.assign(rows_read, {});  // no history
+    if (out.version < format_that_added(name) && !h5::exists(parts, name)) {
+      field.assign(rows_read, {});  // no history; no alpha of its own
       return;
     }
     std::size_t rows = 0, cols = 1;

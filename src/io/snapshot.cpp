@@ -208,17 +208,18 @@ void write_snapshot(const std::string& path, const Particles<D>& p, const Snapsh
 
 namespace {
 // The /Parameters and /Units that analysis reads back (the kernel, the point mass, where the initial
-// conditions came from, the units), as the TOML text the run resolved them to.
+// conditions came from, a blast wave's gamma and energy, the units), as the TOML text the run resolved them to.
 void read_analysis_parameters(hid_t file, const std::string& path, SnapshotMeta& meta) {
   if (h5::exists(file, "Parameters")) {
     h5::Handle g = h5::open_group(file, "Parameters", path);
     for (const char* key : {"sph.kernel", "problem.initial_conditions"})
       if (h5::has_attr(g, key)) meta.parameters.emplace_back(key, "\"" + h5::read_attr_string(g, key, path) + "\"");
-    if (h5::has_attr(g, "physics.central_mass")) {
-      char text[64];
-      std::snprintf(text, sizeof text, "%.17g", h5::read_attr_double(g, "physics.central_mass", path));
-      meta.parameters.emplace_back("physics.central_mass", text);
-    }
+    for (const char* key : {"physics.central_mass", "physics.gamma", "problem.blast_energy"})
+      if (h5::has_attr(g, key)) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g", h5::read_attr_double(g, key, path));
+        meta.parameters.emplace_back(key, text);
+      }
   }
   if (h5::exists(file, "Units")) {
     h5::Handle u = h5::open_group(file, "Units", path);

@@ -35,7 +35,7 @@ template <int D>
 Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
   const double r2 = norm2(x);
   const double r = std::sqrt(r2);
-  return x * (-gm / (r2 * r));
+  return gm == 0 ? Vec<D>{} : x * (-gm / (r2 * r));  // (no point mass: a blast wave's centre may be empty)
 }
 
 // Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
@@ -75,9 +75,10 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
     inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
-    if (with_pressure) Pr[i] = pressure(phys, static_cast<double>(p.rho[i]), p.pos[i]) * inv_rho[i] * inv_rho[i];
+    const double u = p.u.empty() ? 0.0 : p.u[i];
+    if (with_pressure) Pr[i] = pressure(phys, static_cast<double>(p.rho[i]), p.pos[i], u) * inv_rho[i] * inv_rho[i];
     if (av) {
-      scratch.sound_speed[i] = sound_speed_at(phys, p.pos[i]);
+      scratch.sound_speed[i] = sound_speed_at(phys, p.pos[i], u);
       if (i < m) p.signal_speed[i] = scratch.sound_speed[i];  // raised by the pairs (timestep.hpp)
     }
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
@@ -88,7 +89,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
                           others ? rho_without_self.data() : nullptr,
                           phys.keeps_correction_shift() ? p.correction_shift.data() : nullptr, scales, phys.kernel,
                           av ? scratch.sound_speed.data() : nullptr, av && phys.av_limiter ? p.av_limiter.data() : nullptr,
-                          phys.av_alpha, phys.av_beta, av ? p.signal_speed.data() : nullptr};
+                          av ? p.av_alpha.data() : nullptr, phys.av_beta, av ? p.signal_speed.data() : nullptr};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

@@ -121,12 +121,13 @@ struct ForceListData {
   // Every particle's kernel scale (with either of the two above), and the kernel.
   const KernelScale* scales = nullptr;
   KernelType kernel = KernelType::Cubic;
-  // Artificial viscosity (with pressure): every particle's sound speed and limiter (null: 1; read
-  // as the stress is, after the particle's velocity gradient), alpha and beta, and the signal
+  // Artificial viscosity (with pressure): every particle's sound speed, limiter (null: 1; read
+  // as the stress is, after the particle's velocity gradient) and alpha, beta, and the signal
   // speeds raised to each pair's (j's for j < writable); null: none.
   const double* sound_speed = nullptr;
   const double* limiter = nullptr;
-  double av_alpha = 0.0, av_beta = 0.0;
+  const double* av_alpha = nullptr;
+  double av_beta = 0.0;
   double* signal_speed = nullptr;
 };
 
@@ -183,9 +184,9 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       PairTerms<double> Pr{Pr_i, d.p_over_rho2[j]};
       if (d.sound_speed) {  // artificial viscosity: q / rho^2 on top of P / rho^2
         const double ci = d.sound_speed[i], cj = d.sound_speed[j], w = approach_speed(xij, vij);
-        const PairTerms<double> q = artificial_viscosity_pair(w, ci, cj, inv_rho_i, d.inv_rho[j], d.limiter ? d.limiter[i] : 1.0,
-                                                              d.limiter ? d.limiter[j] : 1.0, d.av_alpha, d.av_beta);
-        Pr.to_i += q.to_i, Pr.to_j += q.to_j;
+        const PairTerms<double> av = artificial_viscosity_pair(w, ci, cj, inv_rho_i, d.inv_rho[j], d.limiter ? d.limiter[i] : 1.0,
+                                                              d.limiter ? d.limiter[j] : 1.0, d.av_alpha[i], d.av_alpha[j], d.av_beta);
+        Pr.to_i += av.to_i, Pr.to_j += av.to_j;
         const double s = pair_signal_speed(w, ci, cj, d.av_beta);
         signal_i = std::max(signal_i, s);
         if (j < d.writable) d.signal_speed[j] = std::max(d.signal_speed[j], s);

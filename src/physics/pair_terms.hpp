@@ -185,13 +185,13 @@ double approach_speed(const Vec<D>& xij, const Vec<D>& vij) {
 
 // Artificial viscosity (Monaghan 1997 with the signal velocity; Phantom's q_ab, Price et al. 2018
 // eqs. 40-41): for an approaching pair, w = approach_speed < 0, each particle's
-//   q_i / rho_i^2 = -1/2 f_i (alpha c_i + beta |w|) w / rho_i,
+//   q_i / rho_i^2 = -1/2 f_i (alpha_i c_i + beta |w|) w / rho_i,
 // zero for a receding pair (w = 0). Added to the particle's P / rho^2 in pressure_pair and
 // pressure_work_pair it gives a repulsion along the pair, and its heating, with the pressure force's
-// conservation. f: the Balsara limiter (1: none).
+// conservation. f: the Balsara limiter (1: none); alpha: each particle's own (viscosity_switch.hpp).
 constexpr PairTerms<double> artificial_viscosity_pair(double w, double c_i, double c_j, double inv_rho_i, double inv_rho_j,
-                                                      double f_i, double f_j, double alpha, double beta) {
-  return {-0.5 * f_i * (alpha * c_i - beta * w) * w * inv_rho_i, -0.5 * f_j * (alpha * c_j - beta * w) * w * inv_rho_j};
+                                                      double f_i, double f_j, double alpha_i, double alpha_j, double beta) {
+  return {-0.5 * f_i * (alpha_i * c_i - beta * w) * w * inv_rho_i, -0.5 * f_j * (alpha_j * c_j - beta * w) * w * inv_rho_j};
 }
 
 // The pair's signal speed for the step limit (timestep.hpp): the larger sound speed, plus beta times

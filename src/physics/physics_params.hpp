@@ -2,6 +2,7 @@
 // Physical parameters in code units (G = M = r0 = 1 for the ring; see core/units.hpp).
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <string_view>
 
 #include "core/named_choice.hpp"
@@ -12,8 +13,9 @@ namespace sphdisk {
 
 // The equation of state: none (pressureless, as in the ring test, P98 5.2); isothermal, P = c_s^2 rho
 // with one c_s; locally isothermal, P = c_s(R)^2 rho with c_s(R) = c_s0 (R / r0)^-q, R the
-// cylindrical radius (Phantom's ieos = 3; docs/physics.md sec. 4).
-enum class EquationOfState { None, Isothermal, LocallyIsothermal };
+// cylindrical radius (Phantom's ieos = 3; docs/physics.md sec. 4); adiabatic, P = (gamma - 1) rho u
+// with each particle's evolved internal energy u (Phantom's ieos = 2; the energy equation is then on).
+enum class EquationOfState { None, Isothermal, LocallyIsothermal, Adiabatic };
 
 // How eq. 6's divergence of the viscous stress is discretised (physics/forces.hpp):
 //   Conservative: sum_j m_j (S_i / rho_j + S_j / rho_i) . grad_i W_ij, as P98 prints it; pair terms
@@ -59,11 +61,16 @@ struct PhysicsParams {
   EquationOfState eos = EquationOfState::None;  // None: pressureless, as in the ring test (P98 5.2)
   double sound_speed = 0.0;       // c_s (isothermal), or c_s0 at R = r0 = 1 (locally isothermal)
   double sound_speed_index = 0.0; // q of c_s(R) = c_s0 R^-q (locally isothermal)
+  double gamma = 5.0 / 3.0;       // adiabatic index (adiabatic)
   bool evolve_energy = false;     // integrate du/dt (viscous heating, pressure work)
   // Artificial viscosity (pair_terms.hpp, artificial_viscosity_pair; needs an equation of state):
-  // alpha (0: none), beta, and whether the Balsara limiter scales each particle's share.
+  // alpha (0: none; with the switch its largest value), beta, and whether the Balsara limiter scales
+  // each particle's share; the time-dependent switch of each particle's alpha between av_alpha_min and
+  // av_alpha (viscosity_switch.hpp), or one alpha for all.
   double av_alpha = 0.0, av_beta = 2.0;
   bool av_limiter = true;
+  bool av_switch = true;
+  double av_alpha_min = 0.1;
   double accretion_radius = 0.0;  // particles with r < r_acc are accreted by the central mass
   GradientCorrection gradient_correction = GradientCorrection::Linear;  // discretisation: the kernel gradient (above)
   bool force_correction = false;    // discretisation: moment-corrected, pair-symmetrised kernel gradient in eq. 6 (moment_correction.hpp)
@@ -88,7 +95,8 @@ struct PhysicsParams {
 // The configuration's names of the choices above (core/config.cpp lists the allowed ones).
 inline constexpr NamedChoice<EquationOfState> kEosNames[] = {{"none", EquationOfState::None},
                                                              {"isothermal", EquationOfState::Isothermal},
-                                                             {"locally_isothermal", EquationOfState::LocallyIsothermal}};
+                                                             {"locally_isothermal", EquationOfState::LocallyIsothermal},
+                                                             {"adiabatic", EquationOfState::Adiabatic}};
 inline constexpr NamedChoice<ViscousForce> kViscousForceNames[] = {{"consistent", ViscousForce::Consistent},
                                                                    {"conservative", ViscousForce::Conservative}};
 inline constexpr NamedChoice<PairDensity> kPairDensityNames[] = {{"summation", PairDensity::Summation},
@@ -109,12 +117,20 @@ inline GradientCorrection gradient_correction_from_name(std::string_view s) {
   return choice_from_name<GradientCorrection>("sph.gradient_correction", s, kGradientCorrectionNames);
 }
 
-// The sound speed at position x (code units: r0 = 1): c_s, or c_s0 R^-q with R the cylindrical radius.
+// The sound speed at position x with internal energy u (code units: r0 = 1): c_s, c_s0 R^-q with R
+// the cylindrical radius, or (gamma (gamma - 1) u)^(1/2) for the adiabatic equation of state.
 template <int D>
-double sound_speed_at(const PhysicsParams& p, const Vec<D>& x) {
+double sound_speed_at(const PhysicsParams& p, const Vec<D>& x, double u = 0.0) {
+  if (p.eos == EquationOfState::Adiabatic) return std::sqrt(p.gamma * (p.gamma - 1.0) * std::max(u, 0.0));
   if (p.eos != EquationOfState::LocallyIsothermal) return p.sound_speed;
   const double R2 = x[0] * x[0] + x[1] * x[1];
   return p.sound_speed * std::pow(R2, -0.5 * p.sound_speed_index);
+}
+
+// Particle i's sound speed (Particles<D>; u is absent without an energy equation).
+template <class Particles>
+double particle_sound_speed(const Particles& p, std::size_t i, const PhysicsParams& phys) {
+  return sound_speed_at(phys, p.pos[i], p.u.empty() ? 0.0 : p.u[i]);
 }
 
 // The kinematic shear viscosity at position x: the constant nu, or with alpha_ss > 0 the
@@ -134,10 +150,11 @@ double largest_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
   return std::max(shear_viscosity_at(p, x), p.nu_bulk);
 }
 
-// P at density rho and position x (0 without an equation of state).
+// P at density rho, position x and internal energy u (0 without an equation of state).
 template <int D>
-double pressure(const PhysicsParams& p, double rho, const Vec<D>& x) {
+double pressure(const PhysicsParams& p, double rho, const Vec<D>& x, double u = 0.0) {
   if (p.eos == EquationOfState::None) return 0.0;
+  if (p.eos == EquationOfState::Adiabatic) return (p.gamma - 1.0) * rho * u;
   const double c = sound_speed_at(p, x);
   return c * c * rho;
 }

@@ -117,7 +117,10 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
   // so that kinetic + internal energy stay exactly conserved.
   const Mat<D> V = phys.gradient_correction == GradientCorrection::None ? g.V : corrected_gradient(used);
   const Mat<D> S = store_and_read(p.stress[i], kinematic_stress(V, shear_viscosity_at(phys, p.pos[i]), phys));
-  if (phys.artificial_viscosity() && phys.av_limiter) p.av_limiter[i] = balsara_limiter(V, sound_speed_at(phys, p.pos[i]), p.h[i]);
+  if (phys.artificial_viscosity()) {
+    if (phys.av_limiter) p.av_limiter[i] = balsara_limiter(V, particle_sound_speed(p, i, phys), p.h[i]);
+    p.compression[i] = std::max(-V.trace(), 0.0);  // drives the switch (viscosity_switch.hpp)
+  }
   const bool heating = !p.du_dt.empty();  // absent without an energy equation (core/particles.hpp)
   if (phys.force_correction) {
     const Mat<D> C = store_and_read(p.correction[i], correction_from_moments(g.M));

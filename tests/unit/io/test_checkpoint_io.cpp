@@ -116,7 +116,7 @@ TEST(Checkpoint, RoundTripKeepsParticlesAndStateBitForBit) {
         if (other.name == info.name) expect_same_bits(field, read), ++compared;
     });
   });
-  EXPECT_EQ(compared, 10u);  // id, mass, pos, vel, u, h, acc, du_dt, h_prev, h_prev2
+  EXPECT_EQ(compared, 11u);  // id, mass, pos, vel, u, h, acc, du_dt, h_prev, h_prev2, av_alpha
   EXPECT_EQ(r.time, s.time);
   EXPECT_EQ(r.step, s.step);
   EXPECT_EQ(r.next_output, s.next_output);

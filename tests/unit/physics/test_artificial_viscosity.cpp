@@ -7,6 +7,7 @@
 
 #include "evaluate/rate_evaluator.hpp"
 #include "physics/pair_terms.hpp"
+#include "physics/viscosity_switch.hpp"
 #include "physics/viscous_stress.hpp"
 #include "test_helpers.hpp"
 
@@ -19,15 +20,19 @@ TEST(ArtificialViscosity, PairTermActsOnApproachingPairsOnly) {
   // w = v_ij . x_ij / |x_ij| = -1: q_i / rho_i^2 = -1/2 (alpha c_i + beta) (-1) / rho_i.
   EXPECT_DOUBLE_EQ(approach_speed(xij, closing), -1.0);
   const double w = approach_speed(xij, closing);
-  const PairTerms<double> q = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
+  const PairTerms<double> q = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, alpha, beta);
   EXPECT_DOUBLE_EQ(q.to_i, 0.5 * (0.1 + 2.0) * 2.0);
   EXPECT_DOUBLE_EQ(q.to_j, 0.5 * (0.2 + 2.0) * 4.0);
-  const PairTerms<double> limited = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 0.25, 0.5, alpha, beta);
+  const PairTerms<double> limited = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 0.25, 0.5, alpha, alpha, beta);
   EXPECT_DOUBLE_EQ(limited.to_i, 0.25 * q.to_i);
   EXPECT_DOUBLE_EQ(limited.to_j, 0.5 * q.to_j);
+  // Each particle's own alpha (the switch): alpha_i = 0.5 for i, alpha_j = 0 leaves j only beta's part.
+  const PairTerms<double> own = artificial_viscosity_pair(w, c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, 0.5, 0.0, beta);
+  EXPECT_DOUBLE_EQ(own.to_i, 0.5 * (0.5 * 0.1 + 2.0) * 2.0);
+  EXPECT_DOUBLE_EQ(own.to_j, 0.5 * 2.0 * 4.0);
   for (const Vec<3>& v : {opening, sliding}) {
     EXPECT_EQ(approach_speed(xij, v), 0.0);
-    const PairTerms<double> none = artificial_viscosity_pair(approach_speed(xij, v), c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, beta);
+    const PairTerms<double> none = artificial_viscosity_pair(approach_speed(xij, v), c_i, c_j, inv_rho_i, inv_rho_j, 1.0, 1.0, alpha, alpha, beta);
     EXPECT_EQ(none.to_i, 0.0);
     EXPECT_EQ(none.to_j, 0.0);
   }
@@ -52,7 +57,8 @@ TEST(ArtificialViscosity, BalsaraLimiterIsOffInShearAndOnInCompression) {
 namespace {
 
 // A cloud of 3D particles converging on its centre (v = -x plus noise), isothermal, no gravity or
-// physical viscosity, evaluated with the given alpha.
+// physical viscosity, evaluated with the given largest alpha, each particle's own between 0.1 and it
+// (as the switch leaves them).
 Particles<3> converging_cloud(double alpha, PhysicsParams& phys) {
   Particles<3> p = test::random_particles<3>(3000, 7, false);
   for (auto& h : p.h) h = 0.06;  // the h solve's start
@@ -66,6 +72,7 @@ Particles<3> converging_cloud(double alpha, PhysicsParams& phys) {
   phys.evolve_energy = true;
   phys.av_alpha = alpha;
   p.set_absent_fields(unused_fields(false, true, false, false, phys.artificial_viscosity()));
+  for (std::size_t i = 0; i < p.av_alpha.size(); ++i) p.av_alpha[i] = alpha * (0.1 + 0.9 * static_cast<double>(i % 7) / 6.0);
   PhaseTimers timers;
   RateEvaluator<3> rates(KernelType::Cubic, 0.06, phys, timers, Smoothing::Adaptive, 58.0);
   rates.evaluate(p);
@@ -104,4 +111,30 @@ TEST(ArtificialViscosity, ConservesMomentumAndEnergyAndOnlyHeats) {
   }
   EXPECT_GT(largest, 0.3 + 2.0 * 0.05);
   EXPECT_TRUE(without.signal_speed.empty());  // absent without the artificial viscosity
+}
+
+// The Morris-Monaghan switch (physics/viscosity_switch.hpp): decay to alpha_min on the time scale
+// h / (0.1 c) without compression, a rise to alpha_max where it dominates, exact over any step.
+TEST(ArtificialViscosity, SwitchDecaysAndRisesWithinItsBounds) {
+  PhysicsParams phys;
+  phys.av_alpha = 1.0;
+  phys.av_alpha_min = 0.1;
+  const double h = 0.02, c = 0.5, tau = h / (kViscositySwitchDecay * c);
+  // No compression: alpha - alpha_min falls by e over tau.
+  EXPECT_NEAR(switched_alpha(1.0, 0.0, h, c, tau, phys) - 0.1, 0.9 * std::exp(-1.0), 1e-14);
+  // Two half steps are one step (constant coefficients, integrated exactly).
+  const double S = 3.0 / tau;
+  EXPECT_NEAR(switched_alpha(switched_alpha(0.2, S, h, c, 0.5 * tau, phys), S, h, c, 0.5 * tau, phys),
+              switched_alpha(0.2, S, h, c, tau, phys), 1e-14);
+  // A compression S settles at (alpha_min / tau + S alpha_max) / (1 / tau + S): 0.775 at S tau = 3.
+  EXPECT_NEAR(switched_alpha(0.1, S, h, c, 1e3 * tau, phys), (0.1 + 3.0) / 4.0, 1e-12);
+  // A shock (S tau = 1e4) lifts it to nearly alpha_max within a few of its own rise times.
+  EXPECT_GT(switched_alpha(0.1, 1e4 / tau, h, c, 5e-4 * tau, phys), 0.99);
+  // Within [alpha_min, alpha_max] for any step and start within them.
+  for (double dt : {0.0, 1e-6, 1.0, 1e6})
+    for (double start : {0.1, 0.5, 1.0}) {
+      const double a = switched_alpha(start, S, h, c, dt * tau, phys);
+      EXPECT_GE(a, 0.1 - 1e-15);
+      EXPECT_LE(a, 1.0 + 1e-15);
+    }
 }
