@@ -48,11 +48,11 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
   // (pair_lists.hpp). Else list i is particle i's, as appending (inactive particles) needs.
   const bool tile_ordered = !domain_ && active == owned && storage_ == PairStorage::Stored && !whole_.set;
   double cell_size;
-  // The median h sets the cell size: the denser particles scan few cells and the rest (larger h)
-  // reach over more cells; any cell size gives the same lists.
+  // The median h sets the cell size (kCellOverMedianH): the denser particles scan few cells and the
+  // rest (larger h) reach over more cells; any cell size gives the same lists.
   if (domain_) {
     const std::uint64_t total = domain_->sum(owned);
-    cell_size = kSkin * domain_->kth_smallest(p.h, total / 2);
+    cell_size = kCellOverMedianH<D> * domain_->kth_smallest(p.h, total / 2);
     widest_support_ = 2.0 * domain_->kth_smallest(p.h, static_cast<std::uint64_t>(kTileQuantile * static_cast<double>(total)));
     need_.resize(owned);
     reach_.resize(owned);
@@ -65,7 +65,7 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
     cell_size = whole_.lattice.cell_size;
     widest_support_ = whole_.widest_support;
   } else {
-    const CellsAndTiles c = cells_and_tiles(p.h);
+    const CellsAndTiles c = cells_and_tiles<D>(p.h);
     cell_size = c.cell_size;
     widest_support_ = c.widest_support;
   }

@@ -16,18 +16,25 @@ namespace sphdisk::evaluation {
 // the particle's search must be repeated.
 constexpr double kSkin = 1.05;
 
+// The cell size over the median h: kSkin in 2D, so that the median particle's search (radius
+// 2 kSkin h) spans two cells each side; twice that in 3D, one cell each side: a 3D search visits
+// (2 reach + 1)^2 rows of cells, and with reach 1 instead of 2 the rows' fixed cost saves more than
+// the extra candidates cost (docs/performance.md, "Three dimensions: Phantom's test disc").
+template <int D>
+constexpr double kCellOverMedianH = D == 3 ? 2.0 * kSkin : kSkin;
+
 // Halos (ghosts of other ranks, or the involved particles of a partial evaluation) reach this much
 // beyond the first search radius, so that h may grow by it before the solve must be repeated.
 constexpr double kHaloMargin = 1.25;
 
-// Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (8^3 in 3D), ~1,000
-// particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is
+// Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (4^3 of 3D's twice
+// larger cells), ~1,000 particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is
 // reused only inside the tile, and larger tiles reuse more of it (docs/performance.md,
 // "Neighbour search and pair lists"). The tiles also span the supports of all but the widest 1%
 // of particles, whose pairs reaching beyond the next tile are evaluated after the others. The tile
 // size depends on the particles only, never on the thread count (it sets the order of the sums).
 template <int D>
-constexpr int kMinTileCells = D == 2 ? 16 : 8;
+constexpr int kMinTileCells = D == 2 ? 16 : 4;
 constexpr double kTileQuantile = 0.99;
 
 // The k-th smallest (from 0) of v for k = fraction * size, for each of the fractions (< 1).
@@ -44,9 +51,10 @@ std::array<double, N> quantiles(const std::vector<double>& v, const std::array<d
 struct CellsAndTiles {
   double cell_size, widest_support;
 };
-inline CellsAndTiles cells_and_tiles(const std::vector<double>& h) {
+template <int D>
+CellsAndTiles cells_and_tiles(const std::vector<double>& h) {
   const auto [median, wide] = quantiles<2>(h, {0.5, kTileQuantile});
-  return {kSkin * median, 2.0 * wide};
+  return {kCellOverMedianH<D> * median, 2.0 * wide};
 }
 
 inline std::size_t total_of(const std::vector<std::uint32_t>& counts) {

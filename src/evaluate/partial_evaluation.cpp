@@ -45,7 +45,7 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
     if (smoothing_ == Smoothing::Adaptive) {
       predicted_h_ = p.h;  // as adaptive_lists predicts them, before it takes the quantiles
       par::for_each(active, [&](std::size_t i) { predicted_h_[i] = predicted_smoothing_length(p.h[i], p.h_prev[i], p.h_prev2[i]); });
-      const CellsAndTiles c = cells_and_tiles(predicted_h_);
+      const CellsAndTiles c = cells_and_tiles<D>(predicted_h_);
       cell_size = c.cell_size;
       whole_.widest_support = c.widest_support;
       par::for_each(active, [&](std::size_t i) { radius[i] = kHaloMargin * 2.0 * kSkin * predicted_h_[i]; });
