@@ -26,19 +26,56 @@ std::size_t keep_from(std::uint32_t* idx, const double* d2, std::size_t k0, std:
 
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 
-// Eight candidates per round: positions (x, y interleaved) loaded as two vectors and split into
-// x and y by permutes, the tests as one mask, the accepted indices and distances packed to the
-// front by compress and stored whole (the slack takes the rest). Only the last round masks its
-// loads (masked loads are slow on AMD's AVX-512 CPUs: core/avx512_partner_loads.hpp).
-__attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::uint32_t* js, const Vec<2>* xs,
+// The squared distances from x of eight consecutive positions at `at` (the first m loaded: whole
+// vectors, or only m entries with masked loads), formed as norm2 forms them. 2D: x, y interleaved,
+// two vectors split by permutes.
+[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d squared_distances(const double* at, unsigned m, const Vec<2>& x) {
+  const __m512i even = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14), odd = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
+  const __m512d a = avx512::load_f64(at, 2 * std::min(m, 4u));  // 2 m doubles: up to eight in a, the rest in b
+  const __m512d b = avx512::load_f64(at + 8, m > 4 ? 2 * (m - 4) : 0);
+  const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), _mm512_set1_pd(x[0]));
+  const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), _mm512_set1_pd(x[1]));
+#ifdef __FMA__
+  return _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));
+#else
+  return _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+#endif
+}
+
+// 3D: x, y, z interleaved, three vectors; component c of entry k is double 3k + c, entries 0-5 (x)
+// or 0-4 (y, z) in the first two vectors, the rest in the third (indices 8 + 0..7 in the second
+// permute).
+[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d squared_distances(const double* at, unsigned m, const Vec<3>& x) {
+  const __m512i x_ab = _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0), x_c = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13);
+  const __m512i y_ab = _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0), y_c = _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14);
+  const __m512i z_ab = _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0), z_c = _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15);
+  const unsigned doubles = 3 * m;
+  const __m512d a = avx512::load_f64(at, std::min(doubles, 8u));
+  const __m512d b = avx512::load_f64(at + 8, doubles > 8 ? std::min(doubles - 8, 8u) : 0);
+  const __m512d c = avx512::load_f64(at + 16, doubles > 16 ? doubles - 16 : 0);
+  const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, x_ab, b), x_c, c), _mm512_set1_pd(x[0]));
+  const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, y_ab, b), y_c, c), _mm512_set1_pd(x[1]));
+  const __m512d dz = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, z_ab, b), z_c, c), _mm512_set1_pd(x[2]));
+#ifdef __FMA__
+  return _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+#else
+  return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
+#endif
+}
+
+// Eight candidates per round: their squared distances (above), the tests as one mask, the accepted
+// indices and distances packed to the front by compress and stored whole (the slack takes the
+// rest). Only the last round masks its loads (masked loads are slow on AMD's AVX-512 CPUs:
+// core/avx512_partner_loads.hpp).
+template <int D>
+__attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::uint32_t* js, const Vec<D>* xs,
                                                                      std::uint32_t s0, std::uint32_t s1,
-                                                                     const ScanTarget<2>& t, std::uint32_t* out,
+                                                                     const ScanTarget<D>& t, std::uint32_t* out,
                                                                      double* d2) {
-  const __m512d x = _mm512_set1_pd(t.x[0]), y = _mm512_set1_pd(t.x[1]), r2 = _mm512_set1_pd(t.r2);
+  const __m512d r2 = _mm512_set1_pd(t.r2);
   const __m256i self = _mm256_set1_epi32(static_cast<int>(t.self));
   const __m256i limit = _mm256_set1_epi32(static_cast<int>(t.limit));
-  const __m512i even = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14), odd = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
-  static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions are read as interleaved x, y");
+  static_assert(sizeof(Vec<D>) == D * sizeof(double), "positions are read as interleaved components");
   const double* base = reinterpret_cast<const double*>(xs);
   std::size_t found = 0;
   for (std::uint32_t s = s0; s < s1; s += 8) {
@@ -47,16 +84,7 @@ __attribute__((target("avx512f,avx512vl"))) std::size_t scan_avx512(const std::u
     // Entries loaded: whole vectors where the slots go on past the range (the lanes beyond it are
     // not live), else only the range's (masked loads).
     const unsigned m = std::size_t{s} + 8 <= t.readable ? 8 : n;
-    const double* at = base + 2 * std::size_t{s};  // 2 m doubles: up to eight in a, the rest in b
-    const __m512d a = avx512::load_f64(at, 2 * std::min(m, 4u));
-    const __m512d b = avx512::load_f64(at + 8, m > 4 ? 2 * (m - 4) : 0);
-    const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), x);
-    const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), y);
-#ifdef __FMA__
-    const __m512d dist2 = _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));  // as norm2 with FMA
-#else
-    const __m512d dist2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-#endif
+    const __m512d dist2 = squared_distances(base + D * std::size_t{s}, m, t.x);
     const __m256i j = avx512::load_u32(js + s, m);
     __mmask8 keep = _mm512_mask_cmp_pd_mask(live, dist2, r2, _CMP_LT_OQ);
     keep = _mm256_mask_cmpneq_epu32_mask(keep, j, self);
@@ -246,6 +274,14 @@ std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint
   }
 #endif
   return scan_candidates_scalar<2>(js, xs, s0, s1, target, out, d2);
+}
+
+std::size_t scan_candidates(const std::uint32_t* js, const Vec<3>* xs, std::uint32_t s0, std::uint32_t s1,
+                            const ScanTarget<3>& target, std::uint32_t* out, double* d2) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  if (vector_isa() == VectorIsa::avx512) return scan_avx512(js, xs, s0, s1, target, out, d2);
+#endif
+  return scan_candidates_scalar<3>(js, xs, s0, s1, target, out, d2);
 }
 
 EarlierPartners earlier_partners(const std::uint32_t* js, std::size_t n, std::uint32_t slot_i, const std::uint32_t* slot,

@@ -39,8 +39,11 @@ struct ScanTarget {
 // s1 - s0 + kScanSlack entries.
 std::size_t scan_candidates(const std::uint32_t* js, const Vec<2>* xs, std::uint32_t s0, std::uint32_t s1,
                             const ScanTarget<2>& target, std::uint32_t* out, double* d2);
+// The same in 3D (vectorised with AVX-512 only).
+std::size_t scan_candidates(const std::uint32_t* js, const Vec<3>* xs, std::uint32_t s0, std::uint32_t s1,
+                            const ScanTarget<3>& target, std::uint32_t* out, double* d2);
 
-// The scalar scan, in any dimension (scan_candidates' fallback; 3D's only path). Branch-free append:
+// The scalar scan, in any dimension (scan_candidates' fallback). Branch-free append:
 // every candidate is written, the end advances only for accepted ones (about half the candidates
 // are accepted at random, so a branch would mispredict often).
 template <int D>
@@ -58,12 +61,12 @@ std::size_t scan_candidates_scalar(const std::uint32_t* js, const Vec<D>* xs, st
 }
 
 // Appends the candidates of a cell grid's slots [s0, s1) that `target` accepts to out, and their
-// squared distances to d2 unless null; returns how many (scan_candidates in 2D, vectorised where the
-// CPU allows; the scalar scan in other dimensions). out and d2 need room for s1 - s0 + kScanSlack.
+// squared distances to d2 unless null; returns how many (scan_candidates in 2D and 3D, vectorised where
+// the CPU allows; the scalar scan in other dimensions). out and d2 need room for s1 - s0 + kScanSlack.
 template <int D>
 std::size_t scan_row(const CellGrid<D>& grid, std::uint32_t s0, std::uint32_t s1, const ScanTarget<D>& target,
                      std::uint32_t* out, double* d2) {
-  if constexpr (D == 2) return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
+  if constexpr (D == 2 || D == 3) return scan_candidates(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
   else return scan_candidates_scalar<D>(grid.sorted.data(), grid.sorted_pos.data(), s0, s1, target, out, d2);
 }
 

@@ -3,23 +3,29 @@
 # CPU's widest: AVX-512 or AVX2 on x86-64), "avx2" and "baseline" must give identical particle data
 # in every snapshot (the /Parameters group differs: it records the setting), with leapfrog and with
 # block timesteps (partial evaluations), with adaptive h and with one constant h (its own density
-# loop), with pairs searched anew by every pair loop (sph.pair_lists = "rescan"), and ranks.json
-# must name the path that ran. On a CPU
+# loop), with pairs searched anew by every pair loop (sph.pair_lists = "rescan"), in 3D (its own
+# candidate scan) with block steps and rescanned pairs, and ranks.json must name the path that ran. On a CPU
 # without AVX2 all three run the baseline path, which the test then says.
 set -euo pipefail
 sphdisk=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-for variant in leapfrog block leapfrog-constant block-rescan; do
+for variant in leapfrog block leapfrog-constant block-rescan block-3d; do
   scheme=${variant%%-*}
   smoothing=adaptive
   storage=stored
-  case $variant in *-constant) smoothing=constant ;; *-rescan) storage=rescan ;; esac
+  extra=()
+  case $variant in
+    *-constant) smoothing=constant ;;
+    *-rescan) storage=rescan ;;
+    *-3d) storage=rescan
+          extra=(--set sph.dimension=3 --set 'physics.eos="locally_isothermal"' --set physics.aspect_ratio=0.02) ;;
+  esac
   for isa in auto avx2 baseline; do
     "$sphdisk" run -q --output "$work/$variant-$isa" -t 2 \
       --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
       --set "integrator.scheme=\"$scheme\"" --set "sph.smoothing=\"$smoothing\"" --set "sph.pair_lists=\"$storage\"" --set "run.vector_isa=\"$isa\"" \
-      "$(dirname "$0")/small_ring.toml" > /dev/null
+      "${extra[@]}" "$(dirname "$0")/small_ring.toml" > /dev/null
   done
 done
 /usr/bin/python3 - "$work" <<'PY'
@@ -28,7 +34,7 @@ import h5py
 import numpy as np
 work = sys.argv[1]
 fail = 0
-for scheme in ("leapfrog", "block", "leapfrog-constant", "block-rescan"):
+for scheme in ("leapfrog", "block", "leapfrog-constant", "block-rescan", "block-3d"):
     ran = {isa: json.load(open(f"{work}/{scheme}-{isa}/ranks.json"))[0]["vector_isa"] for isa in ("auto", "avx2", "baseline")}
     print(f"{scheme}: vector paths that ran: {ran}")
     if ran["baseline"] != "baseline" or ran["avx2"] not in ("avx2", "baseline") or ran["auto"] == "":

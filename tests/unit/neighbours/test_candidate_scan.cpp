@@ -1,7 +1,7 @@
-// The 2D candidate scan (neighbours/candidate_scan.hpp): its vector paths (AVX2 and AVX-512, those
-// the CPU has) must give the scalar path's candidates and squared distances bit for bit, at the
-// radius too, for rows of every length (partial last rounds), and so must whole neighbour lists
-// built with either.
+// The candidate scan (neighbours/candidate_scan.hpp): its vector paths (AVX2 and AVX-512 in 2D,
+// AVX-512 in 3D, those the CPU has) must give the scalar path's candidates and squared distances bit
+// for bit, at the radius too, for rows of every length (partial last rounds), and so must whole
+// neighbour lists built with either.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,8 +25,9 @@ struct Scanned {
   std::vector<double> d2;
 };
 
-Scanned scan(VectorIsa isa, const std::vector<std::uint32_t>& js, const std::vector<Vec<2>>& xs, std::uint32_t s0,
-             std::uint32_t s1, const ScanTarget<2>& t) {
+template <int D>
+Scanned scan(VectorIsa isa, const std::vector<std::uint32_t>& js, const std::vector<Vec<D>>& xs, std::uint32_t s0,
+             std::uint32_t s1, const ScanTarget<D>& t) {
   return test::on_path(isa, [&] {
     Scanned r;
     r.idx.assign(s1 - s0 + kScanSlack, 0);
@@ -42,30 +43,30 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-void check_scan_paths_agree(VectorIsa isa) {
-  // Positions on a lattice of 1/8, so many squared distances equal r2 exactly (1/8 and r2 = 1/4
-  // are exact); candidates are accepted only below r2.
-  std::mt19937_64 rng(11);
-  std::uniform_int_distribution<int> cell(-6, 6);
-  std::vector<Vec<2>> xs(64);
+// Positions on a lattice of 1/8 (cells -c..c per axis), so many squared distances equal r2 exactly
+// (1/8 and r2 = 1/4 are exact); candidates are accepted only below r2. Every row length (partial
+// last rounds), reading past the range's end or not.
+template <int D>
+void check_scan_paths_agree(VectorIsa isa, int c, const std::vector<ScanTarget<D>>& targets) {
+  std::mt19937_64 rng(D == 2 ? 11 : 13);
+  std::uniform_int_distribution<int> cell(-c, c);
+  std::vector<Vec<D>> xs(64);
   std::vector<std::uint32_t> js(64);
   for (std::size_t s = 0; s < xs.size(); ++s) {
-    xs[s] = Vec<2>{{0.125 * cell(rng), 0.125 * cell(rng)}};
+    for (int k = 0; k < D; ++k) xs[s][k] = 0.125 * cell(rng);
     js[s] = static_cast<std::uint32_t>((s * 37) % 64);
   }
   std::size_t at_radius = 0, accepted = 0;
-  for (const ScanTarget<2> t : {ScanTarget<2>{Vec<2>{{0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
-                             ScanTarget<2>{Vec<2>{{0.125, -0.25}}, 0.25, 5, UINT32_MAX},
-                             ScanTarget<2>{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}}) {
+  for (const ScanTarget<D>& t : targets) {
     for (std::uint32_t s0 = 0; s0 < 9; ++s0)
       for (std::uint32_t s1 = s0; s1 <= 40; ++s1)
         // The vector scans may read the slots after s1 (all 64 exist), or only up to s1.
         for (const std::uint32_t readable : {std::uint32_t{64}, s1}) {
-          ScanTarget<2> target = t;
+          ScanTarget<D> target = t;
           target.readable = readable;
           const Scanned v = scan(isa, js, xs, s0, s1, target), s = scan(VectorIsa::baseline, js, xs, s0, s1, target);
-          ASSERT_EQ(v.idx, s.idx) << vector_isa_name(isa) << ", slots " << s0 << "-" << s1 << " of " << readable;
-          ASSERT_TRUE(same_bits(v.d2, s.d2)) << vector_isa_name(isa) << ", slots " << s0 << "-" << s1 << " of " << readable;
+          ASSERT_EQ(v.idx, s.idx) << vector_isa_name(isa) << ", " << D << "D, slots " << s0 << "-" << s1 << " of " << readable;
+          ASSERT_TRUE(same_bits(v.d2, s.d2)) << vector_isa_name(isa) << ", " << D << "D, slots " << s0 << "-" << s1 << " of " << readable;
           accepted += s.idx.size();
         }
     for (std::size_t s = 0; s < xs.size(); ++s) at_radius += norm2(xs[s] - t.x) == t.r2;
@@ -128,7 +129,14 @@ void check_beyond_supports(VectorIsa isa) {
 
 TEST(CandidateScan, VectorAndScalarPathsAgree) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
-  for (const VectorIsa isa : test::vector_paths()) check_scan_paths_agree(isa);
+  for (const VectorIsa isa : test::vector_paths()) {
+    check_scan_paths_agree<2>(isa, 6, {ScanTarget<2>{Vec<2>{{0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
+                                       ScanTarget<2>{Vec<2>{{0.125, -0.25}}, 0.25, 5, UINT32_MAX},
+                                       ScanTarget<2>{Vec<2>{{0.1, 0.3}}, 0.4, 9, 32}});
+    check_scan_paths_agree<3>(isa, 4, {ScanTarget<3>{Vec<3>{{0.0, 0.0, 0.0}}, 0.25, UINT32_MAX, UINT32_MAX},
+                                       ScanTarget<3>{Vec<3>{{0.125, -0.25, 0.125}}, 0.25, 5, UINT32_MAX},
+                                       ScanTarget<3>{Vec<3>{{0.1, 0.3, -0.2}}, 0.4, 9, 32}});
+  }
 }
 
 TEST(CandidateScan, KeepWithinPathsAgree) {
