@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <tuple>
 #include <utility>
 
 #include "core/vec.hpp"
@@ -74,9 +73,11 @@ std::pair<std::uint32_t, std::uint32_t> row_range(const CellGrid<D>& g, const Ro
   return {s0, s1};
 }
 
-// The ranges of the 2D rows y0..y1 (at most kMaxRows), row_range's for each (candidate_rows.cpp).
+// The ranges of the 2D rows y0..y1 (at most kMaxRows), or of those of the 3D layer z, row_range's
+// for each (candidate_rows.cpp).
 constexpr int kMaxRows = 16;
 void row_ranges(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1);
+void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1);
 
 // Visits the candidate neighbours of x within `radius`: in each row of cells within reach (the
 // cells within cells_within(radius) of x's cell in every dimension), the cells that the chord of
@@ -106,14 +107,8 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radi
     std::array<std::uint32_t, kMaxRows> s0, s1;
     for (int ya = y0; ya <= y1; ya += kMaxRows) {
       const int yb = std::min(y1, ya + kMaxRows - 1);
-      if constexpr (D == 2) {
-        row_ranges(g, q, ya, yb, s0.data(), s1.data());
-      } else {
-        for (int y = ya; y <= yb; ++y) {
-          r[1] = y;
-          std::tie(s0[static_cast<std::size_t>(y - ya)], s1[static_cast<std::size_t>(y - ya)]) = row_range<D>(g, q, r);
-        }
-      }
+      if constexpr (D == 2) row_ranges(g, q, ya, yb, s0.data(), s1.data());
+      else row_ranges(g, q, r[2], ya, yb, s0.data(), s1.data());
       for (std::size_t k = 0; k <= static_cast<std::size_t>(yb - ya); ++k)
         if (s0[k] < s1[k]) f(s0[k], s1[k]);
     }

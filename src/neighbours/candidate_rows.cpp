@@ -1,5 +1,6 @@
-// The ranges of slots of a 2D point's rows of cells (candidate_ranges.hpp, row_ranges): row_range
-// row by row, or, where the CPU has AVX-512, eight rows at once. Each row costs a square root,
+// The ranges of slots of a point's rows of cells, in 2D or in one layer of 3D cells
+// (candidate_ranges.hpp, row_ranges): row_range row by row, or, where the CPU has AVX-512, eight
+// rows at once. Each row costs a square root,
 // products, compares and two cell coordinates, and the search visits ~5 rows per particle
 // (docs/performance.md, "Vector loops (AVX-512 and AVX2)"). Both paths give the same ranges bit for
 // bit: the same operations in the same order, contraction off in this file (src/CMakeLists.txt),
@@ -18,11 +19,14 @@ namespace sphdisk {
 
 namespace {
 
-void row_ranges_scalar(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
-  std::array<int, 2> cell = q.c;
+// z: the layer of 3D cells (unused in 2D).
+template <int D>
+void row_ranges_scalar(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
+  std::array<int, D> cell = q.c;
+  if constexpr (D == 3) cell[2] = z;
   for (int y = y0; y <= y1; ++y) {
     cell[1] = y;
-    const auto [a, b] = row_range<2>(g, q, cell);
+    const auto [a, b] = row_range<D>(g, q, cell);
     s0[y - y0] = a;
     s1[y - y0] = b;
   }
@@ -36,7 +40,8 @@ constexpr __mmask8 kAll = 0xFF;
 
 // CellGrid::coord_in_cells along x for eight quotients t: floor(t) - origin, 0 below the grid (and
 // for NaN), dims - 1 beyond it.
-__attribute__((target("avx512f,avx512vl"))) __m256i coords_x(const CellGrid<2>& g, __m512d t) {
+template <int D>
+__attribute__((target("avx512f,avx512vl"))) __m256i coords_x(const CellGrid<D>& g, __m512d t) {
   const __m512d first = _mm512_set1_pd(g.origin[0]);
   const __m512d beyond = _mm512_set1_pd(g.origin[0] + g.dims[0]);  // first + dims, as coord_in_cells
   const __m512d whole = _mm512_maskz_roundscale_pd(kAll, t, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -46,9 +51,12 @@ __attribute__((target("avx512f,avx512vl"))) __m256i coords_x(const CellGrid<2>& 
   return _mm512_maskz_cvttpd_epi32(kAll, c);
 }
 
-// Up to eight rows y0.. y0 + n - 1: the band distances, chords and end cells as vectors, then the
-// offsets loaded one by one (gathers are slow on AMD's AVX-512 CPUs: core/avx512_partner_loads.hpp).
-__attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int n,
+// Up to eight rows y0.. y0 + n - 1 (of layer z in 3D): the band distances, chords and end cells as
+// vectors, then the offsets loaded one by one (gathers are slow on AMD's AVX-512 CPUs:
+// core/avx512_partner_loads.hpp). In 3D the layer's squared band distance along z, the same for all
+// eight, is added to each row's along y, in row_range's order.
+template <int D>
+__attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0, int n,
                                                        std::uint32_t* s0, std::uint32_t* s1) {
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i band = _mm256_add_epi32(_mm256_set1_epi32(g.origin[1] + y0), lanes);  // origin + y, as int
@@ -57,7 +65,15 @@ __attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<2>& g, con
   const __m512d lo = _mm512_add_pd(_mm512_set1_pd(g.lo[1]), _mm512_mul_pd(_mm512_maskz_cvtepi32_pd(kAll, band), cs));
   const __m512d d = _mm512_maskz_max_pd(kAll, _mm512_maskz_max_pd(kAll, _mm512_sub_pd(lo, xq), _mm512_sub_pd(xq, _mm512_add_pd(lo, cs))), zero);
   const __m512d dm = _mm512_maskz_max_pd(kAll, _mm512_sub_pd(d, margin), zero);
-  const __m512d d2 = _mm512_mul_pd(dm, dm);
+  __m512d d2 = _mm512_mul_pd(dm, dm);
+  std::size_t layer = 0;  // the first cell of layer z (CellGrid::linear)
+  if constexpr (D == 3) {
+    const double lo_z = g.lo[2] + (g.origin[2] + z) * g.cell_size;
+    const double dz = std::max({lo_z - q.x[2], q.x[2] - (lo_z + g.cell_size), 0.0});
+    const double dmz = std::max(dz - q.margin, 0.0);
+    d2 = _mm512_add_pd(d2, _mm512_set1_pd(dmz * dmz));
+    layer = static_cast<std::size_t>(z) * static_cast<std::size_t>(g.dims[1]);
+  }
   const __mmask8 within = _mm512_cmp_pd_mask(d2, r2, _CMP_NGE_UQ);  // row_range: not d2 >= r^2
   const __m512d half_chord = _mm512_add_pd(_mm512_maskz_sqrt_pd(within, _mm512_maskz_sub_pd(within, r2, d2)), margin);
   const __m512d x = _mm512_set1_pd(q.x[0]), lo0 = _mm512_set1_pd(g.lo[0]), inv = _mm512_set1_pd(q.inv_cell);
@@ -74,17 +90,20 @@ __attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<2>& g, con
       s0[k] = s1[k] = 0;
       continue;
     }
-    const std::size_t row = static_cast<std::size_t>(y0 + k) * width;  // CellGrid::linear
+    const std::size_t row = (layer + static_cast<std::size_t>(y0 + k)) * width;  // CellGrid::linear
+    bool own_row = q.after && y0 + k == q.c[1];
+    if constexpr (D == 3) own_row = own_row && z == q.c[2];
     s1[k] = g.offsets[row + static_cast<std::size_t>(hi[k]) + 1];
-    s0[k] = q.after && y0 + k == q.c[1] ? *q.after + 1 : g.offsets[row + static_cast<std::size_t>(low[k])];
+    s0[k] = own_row ? *q.after + 1 : g.offsets[row + static_cast<std::size_t>(low[k])];
   }
 }
 
-__attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGrid<2>& g, const RowSearch<2>& q, int y0,
+template <int D>
+__attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0,
                                                                    int y1, std::uint32_t* s0, std::uint32_t* s1) {
   for (int y = y0; y <= y1; y += 8) {
     const int n = std::min(8, y1 - y + 1);
-    rows8(g, q, y, n, s0 + (y - y0), s1 + (y - y0));
+    rows8<D>(g, q, z, y, n, s0 + (y - y0), s1 + (y - y0));
   }
 }
 
@@ -94,9 +113,16 @@ __attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGri
 
 void row_ranges(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
-  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512(g, q, y0, y1, s0, s1);
+  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<2>(g, q, 0, y0, y1, s0, s1);
 #endif
-  row_ranges_scalar(g, q, y0, y1, s0, s1);
+  row_ranges_scalar<2>(g, q, 0, y0, y1, s0, s1);
+}
+
+void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
+#ifdef SPHDISK_X86_VECTOR_DISPATCH
+  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<3>(g, q, z, y0, y1, s0, s1);
+#endif
+  row_ranges_scalar<3>(g, q, z, y0, y1, s0, s1);
 }
 
 }  // namespace sphdisk
