@@ -45,25 +45,28 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
     const auto c = sphdisk::compare_sedov(particles, meta, bins);
     table = sphdisk::sedov_comparison_table(c), json = sphdisk::sedov_comparison_json(c);
   };
-  std::vector<double> heights;
-  sphdisk::Particles<2> p;
+  auto disc = [&](const sphdisk::Particles<2>& p, const std::vector<double>* heights) {
+    if (sphdisk::is_ring_snapshot(meta)) {
+      const auto c = sphdisk::compare_ring(p, meta, bins);
+      table = sphdisk::ring_comparison_table(c), json = sphdisk::ring_comparison_json(c);
+    } else {
+      const auto d = sphdisk::disc_profiles(p, meta, bins, 0, 0, heights);
+      table = sphdisk::disc_profiles_table(d), json = sphdisk::disc_profiles_json(d);
+    }
+  };
   if (sphdisk::snapshot_dimension(path) != 3) {
-    p = sphdisk::read_snapshot<2>(path, nullptr, meta);
+    const auto p = sphdisk::read_snapshot<2>(path, nullptr, meta);
     if (meta.problem == "sedov") sedov(p);
+    else disc(p, nullptr);
   } else {
     const auto p3 = sphdisk::read_snapshot<3>(path, nullptr, meta);
-    if (meta.problem == "sedov") sedov(p3);
-    for (const auto& x : p3.pos) heights.push_back(x[2]);
-    p = sphdisk::seen_from_above(p3);
-  }
-  if (meta.problem == "sedov") {
-    // (compared above, in the run's own dimension)
-  } else if (sphdisk::is_ring_snapshot(meta)) {
-    const auto c = sphdisk::compare_ring(p, meta, bins);
-    table = sphdisk::ring_comparison_table(c), json = sphdisk::ring_comparison_json(c);
-  } else {
-    const auto d = sphdisk::disc_profiles(p, meta, bins, 0, 0, heights.empty() ? nullptr : &heights);
-    table = sphdisk::disc_profiles_table(d), json = sphdisk::disc_profiles_json(d);
+    if (meta.problem == "sedov") {
+      sedov(p3);
+    } else {
+      std::vector<double> heights;
+      for (const auto& x : p3.pos) heights.push_back(x[2]);
+      disc(sphdisk::seen_from_above(p3), &heights);
+    }
   }
   std::cout << table;
   sphdisk::run_log::write(table);
@@ -216,7 +219,7 @@ int main(int argc, char** argv) {
   CLI::App* analyze = app.add_subcommand("analyze", "compare a snapshot with its analytic solution (the ring, a blast wave) or give a disc's radial profiles");
   analyze->add_option("snapshot", snapshot, "snapshot file (HDF5)")->required();
   analyze->add_option("--json", json_path, "also write the comparison as JSON");
-  analyze->add_option("--bins", bins, "number of radial bins over 0.05-2.05 r0")->check(CLI::Range(1, 100000));
+  analyze->add_option("--bins", bins, "number of radial bins (the ring: over 0.05-2.05 r0; a blast wave: shells to 1.5 shock radii)")->check(CLI::Range(1, 100000));
 
   std::string study_path;
   CLI::App* sweep = app.add_subcommand("sweep", "run a study of simulations spread over MPI ranks (mpirun -np P sphdisk sweep ...)");

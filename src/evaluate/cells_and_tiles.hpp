@@ -28,8 +28,8 @@ constexpr double kCellOverMedianH = D == 3 ? 2.0 * kSkin : kSkin;
 constexpr double kHaloMargin = 1.25;
 
 // Tiles of the pair schedule (pair_lists.hpp) span at least 16 x 16 cells in 2D (4^3 of 3D's twice
-// larger cells), ~1,000 particles: tiles that run side by side lie apart, so what a tile reads of its neighbours is
-// reused only inside the tile, and larger tiles reuse more of it (docs/performance.md,
+// larger cells), ~1,000 particles: tiles that run side by side lie apart, so what a tile reads of
+// its neighbours is reused only inside the tile, and larger tiles reuse more of it (docs/performance.md,
 // "Neighbour search and pair lists"). The tiles also span the supports of all but the widest 1%
 // of particles, whose pairs reaching beyond the next tile are evaluated after the others. The tile
 // size depends on the particles only, never on the thread count (it sets the order of the sums).
