@@ -87,9 +87,12 @@ template <int D>
       const Vec<D> g = kernel_gradient(dx, f);
       ti.shepard = shepard_term(W, d.volume[j], g, dv, dx);
       tj.shepard = shepard_term(W, Vi, -g, -dv, -dx);
+      accumulate(sum_i, ti);
+      if (j < d.writable) accumulate(d.sums[j], tj);
+    } else {  // (the Shepard sums stay zero: only V and M)
+      accumulate(sum_i.V, ti.V), accumulate(sum_i.M, ti.M);
+      if (j < d.writable) accumulate(d.sums[j].V, tj.V), accumulate(d.sums[j].M, tj.M);
     }
-    accumulate(sum_i, ti);
-    if (j < d.writable) accumulate(d.sums[j], tj);
   }
 }
 
