@@ -7,6 +7,8 @@
 // Types with default member initialisers (Vec, Mat) are still initialised by them.
 #include <memory>
 #include <type_traits>
+
+#include "core/large_allocations.hpp"
 #include <utility>
 #include <vector>
 
@@ -30,6 +32,15 @@ struct DefaultInitAllocator : std::allocator<T> {
   struct rebind {
     using other = DefaultInitAllocator<U, kLeaveUnset>;
   };
+  // Buffers of a few MiB and more lie on transparent huge pages (core/large_allocations.hpp).
+  T* allocate(std::size_t n) {
+    if (on_huge_pages(n * sizeof(T))) return static_cast<T*>(map_huge_pages(n * sizeof(T)));
+    return std::allocator<T>::allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (on_huge_pages(n * sizeof(T))) return unmap_huge_pages(p, n * sizeof(T));
+    std::allocator<T>::deallocate(p, n);
+  }
   // Default-initialisation (or none) where std::allocator value-initialises (zeroes) ...
   template <class U>
   void construct(U* p) noexcept(kLeaveUnset || std::is_nothrow_default_constructible_v<U>) {
