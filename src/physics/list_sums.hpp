@@ -3,14 +3,15 @@
 // of one half list, particle i and its partners js[q] with kernel-gradient factors F[q]
 // (pair_factors.hpp), added to i's running sum and to each writable partner's stored sum; each
 // pair's terms are those of pair_terms.hpp. They are most of a rate evaluation's pair work. In
-// scalar code each pair's terms are gathered, formed and scattered one at a time; in 2D on CPUs
-// with AVX-512 (asked at run time, core/vector_isa.hpp) eight partners are gathered and their terms
-// formed at once, then added pair by pair in list order; with AVX2 only, the scalar gradient loop
-// runs compiled for AVX2 (the forces the scalar loop). Both paths give the same bits: the
-// same operations in the same order (i's sum takes the partners in list order; a partner's sum gets
-// one addition per pair, as in the scalar loop), with floating-point contraction off in
-// list_sums.cpp, and the tests compare the two. The vector path covers the ring's case (no
-// pressure, no force correction, double-precision stress); the rest runs the scalar loop.
+// scalar code each pair's terms are gathered, formed and scattered one at a time. On CPUs with
+// AVX-512 (asked at run time, core/vector_isa.hpp) the 2D gradient and force loops and the 3D force
+// loop gather eight partners and form their terms at once, then add them pair by pair in list
+// order, and the 3D gradient loop forms each pair's 18 products in three vectors; with AVX2 only,
+// the scalar gradient loop runs compiled for AVX2 (the forces the scalar loop). Every path gives the
+// same bits: the same operations in the same order (i's sum takes the partners in list order; a
+// partner's sum gets one addition per pair, as in the scalar loop), with floating-point contraction
+// off in list_sums.cpp, and the tests compare them. add_gradient_list and add_force_list (below)
+// name the cases the vector paths cover; the rest runs the scalar loop.
 #include <cstddef>
 #include <cstdint>
 #include <cmath>
@@ -222,22 +223,16 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
   force_list_terms<D, false, false>(d, i, js, F, ai, du_i);
 }
 
-// 2D: the vector paths where the CPU has AVX-512 (gradient: or AVX2) and the case is covered, else
-// the scalar loop.
-// (The mixed correction's sums run the scalar loop.)
-void add_gradient_list(const GradientListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js,
-                       std::span<const float> F, GradientSums<2>& sum_i);
+// The vector paths where the CPU has AVX-512 (gradient: or AVX2) and the case is covered, else the
+// scalar loop. Gradient: without the mixed correction's sums. Force: in 2D eq. 6's conservative form
+// without pressure or force correction (the ring's case with that form), in 3D the conservative
+// form with pressure, with or without the artificial viscosity (the disc's case).
+template <int D>
+void add_gradient_list(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
+                       std::span<const float> F, GradientSums<D>& sum_i);
 void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
                     Vec<2>& ai, double& du_i);
-
-// 3D: the scalar loops.
-inline void add_gradient_list(const GradientListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js,
-                              std::span<const float> F, GradientSums<3>& sum_i) {
-  add_gradient_list_scalar(d, i, js, F, sum_i);
-}
-inline void add_force_list(const ForceListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js,
-                           std::span<const float> F, Vec<3>& ai, double& du_i) {
-  add_force_list_scalar(d, i, js, F, ai, du_i);
-}
+void add_force_list(const ForceListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
+                    Vec<3>& ai, double& du_i);
 
 }  // namespace sphdisk

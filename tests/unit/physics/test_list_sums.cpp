@@ -256,3 +256,111 @@ TEST(ListSums, FactorsFromSmoothingLengthsEqualBoundSlopes) {
     check_factors_from_h<WendlandC4>(isa);
   }
 }
+
+namespace {
+
+// 3D fields with pressure and the artificial viscosity's inputs.
+struct Fields3 {
+  std::vector<Vec<3>> pos, vel;
+  std::vector<double> volume, mass, inv_rho, p_over_rho2, sound_speed, limiter, alpha;
+  std::vector<Mat<3, ReducedReal>> stress;
+};
+
+Fields3 random_fields_3d() {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), positive(0.5, 2.0);
+  Fields3 f;
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    f.pos.push_back(Vec<3>{{u(rng), u(rng), u(rng)}});
+    f.vel.push_back(Vec<3>{{u(rng), u(rng), u(rng)}});
+    for (auto* x : {&f.volume, &f.mass, &f.inv_rho, &f.p_over_rho2, &f.sound_speed, &f.limiter, &f.alpha})
+      x->push_back(positive(rng));
+    Mat<3, ReducedReal> s;
+    for (auto& c : s.c) c = static_cast<ReducedReal>(u(rng));
+    f.stress.push_back(s);
+  }
+  f.pos[7] = f.pos[3];  // coincident with 3
+  f.vel[8] = f.vel[3];  // moving with 3
+  f.vel[9] = f.vel[3];
+  return f;
+}
+
+ListResults<GradientSums<3>> gradients_3d(const Fields3& f, const Lists& l) {
+  return sum_each_list(l, GradientSums<3>{}, [&](GradientSums<3>* sums, std::uint32_t i, const auto& js, const auto& F,
+                                                 GradientSums<3>& own) {
+    add_gradient_list({f.pos.data(), f.vel.data(), f.volume.data(), sums, kWritable}, i, js, F, own);
+  });
+}
+
+// What a 3D force list with pressure writes: the acceleration, energy rate and signal speed.
+struct ForceOut3 {
+  Vec<3> a{};
+  double du = 0.0, signal = 0.0;
+};
+
+ListResults<ForceOut3> pressure_forces_3d(const Fields3& f, const Lists& l, bool viscosity, bool limiter) {
+  ForceOut3 start;
+  start.a = Vec<3>{{0.25, -0.5, 0.125}};
+  start.du = 0.75;
+  start.signal = 0.5;
+  ListResults<ForceOut3> r;
+  r.stored.assign(kWritable, start);
+  std::vector<Vec<3>> acc(kWritable, start.a);
+  std::vector<double> du_dt(kParticles, start.du), signal(kParticles, start.signal);
+  for (std::size_t k = 0; k < l.owner.size(); ++k) {
+    ForceListData<3> d{f.pos.data(), f.vel.data(), f.stress.data(), nullptr, f.mass.data(), f.inv_rho.data(),
+                       f.p_over_rho2.data(), acc.data(), du_dt.data(), kWritable, true, false};
+    if (viscosity) {
+      d.sound_speed = f.sound_speed.data();
+      d.limiter = limiter ? f.limiter.data() : nullptr;
+      d.av_alpha = f.alpha.data();
+      d.av_beta = 2.0;
+      d.signal_speed = signal.data();
+    }
+    ForceOut3 own;
+    add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own.a, own.du);
+    own.signal = signal[l.owner[k]];
+    r.own.push_back(own);
+  }
+  for (std::size_t j = 0; j < kWritable; ++j) r.stored[j] = {acc[j], du_dt[j], signal[j]};
+  return r;
+}
+
+}  // namespace
+
+TEST(ListSums, GradientPathsAgreeIn3D) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields3 f = random_fields_3d();
+  const Lists l = random_lists();
+  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return gradients_3d(f, l); });
+  for (const VectorIsa isa : test::vector_paths()) {
+    const auto vector = test::on_path(isa, [&] { return gradients_3d(f, l); });
+    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
+    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
+  }
+  // Not vacuous: the sums are those of the pair terms (one of them by hand).
+  GradientSums<3> expected{};
+  const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+  accumulate(expected, gradient_term(static_cast<double>(l.factors[1][0]), f.volume[j],
+                                     gradient_pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j])));
+  EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
+}
+
+// With pressure, with and without the artificial viscosity and its limiter: the accelerations,
+// energy rates and signal speeds of both paths agree bit for bit.
+TEST(ListSums, PressureForcePathsAgreeIn3D) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields3 f = random_fields_3d();
+  const Lists l = random_lists();
+  for (const auto& [viscosity, limiter] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
+    const auto scalar = test::on_path(VectorIsa::baseline, [&] { return pressure_forces_3d(f, l, viscosity, limiter); });
+    EXPECT_NE(scalar.stored[0].a[2], 0.125);  // the partners' accelerations were written
+    EXPECT_NE(scalar.stored[0].du, 0.75);
+    if (viscosity) EXPECT_NE(scalar.stored[0].signal, 0.5);
+    for (const VectorIsa isa : test::vector_paths()) {
+      const auto vector = test::on_path(isa, [&] { return pressure_forces_3d(f, l, viscosity, limiter); });
+      EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa) << " viscosity " << viscosity << " limiter " << limiter;
+      EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa) << " viscosity " << viscosity << " limiter " << limiter;
+    }
+  }
+}
