@@ -167,7 +167,9 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
 
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
 // A round's pair accelerations ((x, y) per pair in to_i and to_j) added to i's sum and subtracted
-// from the writable partners' accelerations, pair by pair in list order (SSE2, in either path).
+// from (Subtract; else added to) the writable partners' accelerations, pair by pair in list order
+// (SSE2, in either path).
+template <bool Subtract>
 [[gnu::always_inline]] inline void add_round(const ForceListData<2>& d, const std::uint32_t* js, std::size_t count,
                                              const double* to_i, const double* to_j, __m128d& sum) {
   for (std::size_t k = 0; k < count; ++k) {
@@ -175,9 +177,17 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
     const std::uint32_t j = js[k];
     if (j < d.writable) {
       double* a = d.acc[j].c.data();
-      _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
+      const __m128d t = _mm_load_pd(to_j + 2 * k);
+      _mm_storeu_pd(a, Subtract ? _mm_sub_pd(_mm_loadu_pd(a), t) : _mm_add_pd(_mm_loadu_pd(a), t));
     }
   }
+}
+
+// x and y of eight pairs interleaved to (x, y) per pair in out[16].
+[[gnu::target("avx512f"), gnu::always_inline]] inline void interleave(__m512d x, __m512d y, double* out) {
+  const __m512i first = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11), second = _mm512_setr_epi64(4, 12, 5, 13, 6, 14, 7, 15);
+  _mm512_store_pd(out, _mm512_permutex2var_pd(x, first, y));
+  _mm512_store_pd(out + 8, _mm512_permutex2var_pd(x, second, y));
 }
 
 // Eq. 6 without pressure or force correction, eight partners per round: positions, stresses, 1/rho
@@ -193,7 +203,6 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
   __m512d Si[4];
   for (int c = 0; c < 4; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[static_cast<std::size_t>(c)]);
   const __m512d inv_rho_i = _mm512_set1_pd(d.inv_rho[i]), mi = _mm512_set1_pd(d.mass[i]);
-  const __m512i first = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11), second = _mm512_setr_epi64(4, 12, 5, 13, 6, 14, 7, 15);
   __m128d sum = _mm_loadu_pd(ai.c.data());
   alignas(64) double to_i[16], to_j[16];
   for (std::size_t q = 0; q < n; q += 8) {
@@ -211,11 +220,59 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
     const __m512d mj = avx512::load_singles(d.mass, r.j);
     const __m512d ax = _mm512_mul_pd(fx, mj), ay = _mm512_mul_pd(fy, mj);
     const __m512d bx = _mm512_mul_pd(fx, mi), by = _mm512_mul_pd(fy, mi);
-    _mm512_store_pd(to_i, _mm512_permutex2var_pd(ax, first, ay));
-    _mm512_store_pd(to_i + 8, _mm512_permutex2var_pd(ax, second, ay));
-    _mm512_store_pd(to_j, _mm512_permutex2var_pd(bx, first, by));
-    _mm512_store_pd(to_j + 8, _mm512_permutex2var_pd(bx, second, by));
-    add_round(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
+    interleave(ax, ay, to_i);
+    interleave(bx, by, to_j);
+    add_round<true>(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
+  }
+  _mm_storeu_pd(ai.c.data(), sum);
+}
+
+// The consistent divergence of eq. 6 (consistent_viscous_pair with linear_corrected_gradients, the
+// summed densities' ln rho_j - ln rho_i; no pressure), eight partners per round: positions,
+// stresses, moment corrections, ln rho, 1/rho and masses loaded, both particles' terms formed for
+// all eight with the scalar loop's operations in its order, then interleaved to (x, y) per pair
+// and added to i's sum and to the partner's acceleration pair by pair in list order.
+[[gnu::target("avx512f,avx512vl")]] void consistent_force_list_avx512(const ForceListData<2>& d, std::uint32_t i,
+                                                                      const std::uint32_t* js, const float* F, std::size_t n,
+                                                                      Vec<2>& ai) {
+  const double* pos = reinterpret_cast<const double*>(d.pos);
+  const double* stress = reinterpret_cast<const double*>(d.stress);
+  const double* correction = reinterpret_cast<const double*>(d.correction);
+  const __m512d xi = _mm512_set1_pd(d.pos[i][0]), yi = _mm512_set1_pd(d.pos[i][1]);
+  __m512d Si[4], Ci[4];
+  for (std::size_t c = 0; c < 4; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]), Ci[c] = _mm512_set1_pd(d.correction[i].c[c]);
+  const __m512d log_rho_i = _mm512_set1_pd(d.log_rho[i]);
+  const __m512d Vi = _mm512_set1_pd(d.mass[i] * d.inv_rho[i]);
+  __m128d sum = _mm_loadu_pd(ai.c.data());
+  alignas(64) double to_i[16], to_j[16];
+  for (std::size_t q = 0; q < n; q += 8) {
+    const Round r = load_round(js, F, q, n);
+    __m512d xj, yj, Sj[4], Cj[4];
+    avx512::load_pairs(pos, r.j, xj, yj);
+    avx512::load_quads(stress, r.j, Sj);
+    avx512::load_quads(correction, r.j, Cj);
+    const __m512d gx = _mm512_mul_pd(_mm512_sub_pd(xi, xj), r.f);
+    const __m512d gy = _mm512_mul_pd(_mm512_sub_pd(yi, yj), r.f);
+    const __m512d dl = _mm512_sub_pd(avx512::load_singles(d.log_rho, r.j), log_rho_i);
+    const __m512d Vj = _mm512_mul_pd(avx512::load_singles(d.mass, r.j), avx512::load_singles(d.inv_rho, r.j));
+    // G_i = C_i g, G_j = C_j g (contract: the first product, then the second added)
+    const __m512d Gix = _mm512_add_pd(_mm512_mul_pd(Ci[0], gx), _mm512_mul_pd(Ci[1], gy));
+    const __m512d Giy = _mm512_add_pd(_mm512_mul_pd(Ci[2], gx), _mm512_mul_pd(Ci[3], gy));
+    const __m512d Gjx = _mm512_add_pd(_mm512_mul_pd(Cj[0], gx), _mm512_mul_pd(Cj[1], gy));
+    const __m512d Gjy = _mm512_add_pd(_mm512_mul_pd(Cj[2], gx), _mm512_mul_pd(Cj[3], gy));
+    __m512d Xi[4], Xj[4];
+    for (std::size_t c = 0; c < 4; ++c) {
+      const __m512d dS = _mm512_sub_pd(Sj[c], Si[c]);
+      Xi[c] = _mm512_add_pd(dS, _mm512_mul_pd(Si[c], dl));
+      Xj[c] = _mm512_add_pd(dS, _mm512_mul_pd(Sj[c], dl));
+    }
+    const __m512d ax = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[0], Gix), _mm512_mul_pd(Xi[1], Giy)), Vj);
+    const __m512d ay = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[2], Gix), _mm512_mul_pd(Xi[3], Giy)), Vj);
+    const __m512d bx = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[0], Gjx), _mm512_mul_pd(Xj[1], Gjy)), Vi);
+    const __m512d by = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[2], Gjx), _mm512_mul_pd(Xj[3], Gjy)), Vi);
+    interleave(ax, ay, to_i);
+    interleave(bx, by, to_j);
+    add_round<false>(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
   }
   _mm_storeu_pd(ai.c.data(), sum);
 }
@@ -386,8 +443,11 @@ void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const 
                     Vec<2>& ai, double& du_i) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS
-  if (!d.with_pressure && !d.force_correction && !d.consistent) {
-    if (vector_isa() == VectorIsa::avx512) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
+  if (!d.with_pressure && !d.force_correction && vector_isa() == VectorIsa::avx512) {
+    if (!d.consistent) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
+    if (!d.rho_without_self && !d.correction_shift) {
+      return consistent_force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
+    }
   }
 #endif
 #endif

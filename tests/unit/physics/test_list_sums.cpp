@@ -364,3 +364,43 @@ TEST(ListSums, PressureForcePathsAgreeIn3D) {
     }
   }
 }
+
+// The consistent divergence (the 2D default with adaptive h): both paths' accelerations agree bit
+// for bit, and they are those of the pair function (one pair by hand).
+TEST(ListSums, ConsistentForcePathsAgree) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields f = random_fields();
+  const Lists l = random_lists();
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Mat<2, ReducedReal>> correction(kParticles);
+  std::vector<double> log_rho(kParticles);
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
+    log_rho[k] = u(rng);
+  }
+  const auto consistent = [&] {
+    return sum_each_list(l, Vec<2>{{0.25, -0.5}}, [&](Vec<2>* acc, std::uint32_t i, const auto& js, const auto& F, Vec<2>& own) {
+      ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
+                         nullptr, acc, nullptr, kWritable, false, false};
+      d.log_rho = log_rho.data();
+      d.consistent = true;
+      double du = 0.0;
+      add_force_list(d, i, js, F, own, du);
+    });
+  };
+  const auto scalar = test::on_path(VectorIsa::baseline, consistent);
+  EXPECT_NE(scalar.stored[0], (Vec<2>{{0.25, -0.5}}));
+  for (const VectorIsa isa : test::vector_paths()) {
+    const auto vector = test::on_path(isa, consistent);
+    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
+    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
+  }
+  const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+  const Vec<2> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
+  const Mat<2> Si = as_double(f.stress[i]), Sj = as_double(f.stress[j]);
+  const Vec<2> expected = consistent_viscous_pair(Si, Sj, linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
+                                                  log_rho[j] - log_rho[i], f.mass[i] * f.inv_rho[i], f.mass[j] * f.inv_rho[j])
+                              .to_i;
+  EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
+}
