@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
   RingSetup setup;
   setup.solution = RingSolution{1e-10, 1.0, 4.7786e-5};
-  setup.particles = a.particles;
+  setup.placement.particles = a.particles;
   const double h = ring_smoothing_length(setup, a.neighbours);
   PhysicsParams phys;
   phys.nu = setup.solution.viscosity;

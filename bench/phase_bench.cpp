@@ -55,7 +55,7 @@ struct Fixture {
   explicit Fixture(std::size_t n) {
     RingSetup setup;
     setup.solution = RingSolution{1e-10, 1.0, 4.7786e-5};
-    setup.particles = n;
+    setup.placement.particles = n;
     h = ring_smoothing_length(setup, kNeighbours);
     phys.nu = setup.solution.viscosity;
     p = make_ring(setup);

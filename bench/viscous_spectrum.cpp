@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
   }
   RingSetup setup;
   setup.solution = RingSolution{1e-10, 1.0, 4.7786e-5};
-  setup.particles = particles;
-  setup.stratified = stratified;
+  setup.placement.particles = particles;
+  setup.placement.stratified = stratified;
   const double h = ring_smoothing_length(setup, neighbours);
   PhysicsParams phys;
   phys.nu = setup.solution.viscosity;

@@ -49,29 +49,26 @@ Setup make_setup(const Config& cfg) {
   s.phys.accretion_radius = cfg.accretion_radius;
   s.ring.solution = RingSolution{cfg.disc_mass / cfg.central_mass, 1.0, s.phys.nu};
   s.ring.tau_start = cfg.tau_start;
-  s.ring.particles = static_cast<std::size_t>(cfg.particles);
-  s.ring.seed = static_cast<std::uint64_t>(cfg.seed);
-  s.ring.stratified = placement_from_name(cfg.placement) == Placement::Stratified;
-  s.ring.accretion_radius = cfg.accretion_radius;
+  ParticlePlacement& placed = s.ring.placement;  // the ring's, and the disc's below
+  placed.particles = static_cast<std::size_t>(cfg.particles);
+  placed.seed = static_cast<std::uint64_t>(cfg.seed);
+  placed.stratified = placement_from_name(cfg.placement) == Placement::Stratified;
   if (s.phys.eos != EquationOfState::None) {
-    s.ring.sound_speed = s.phys.sound_speed;
-    s.ring.sound_speed_index = s.phys.eos == EquationOfState::LocallyIsothermal ? cfg.sound_speed_index : 0.0;
+    placed.sound_speed = s.phys.sound_speed;
+    placed.sound_speed_index = s.phys.eos == EquationOfState::LocallyIsothermal ? cfg.sound_speed_index : 0.0;
   }
+  s.ring.accretion_radius = cfg.accretion_radius;
   s.disc = cfg.problem == "disc";
   if (s.disc) {
     s.disc_sampling = power_law_sampling({cfg.inner_radius, cfg.outer_radius, cfg.sigma_index, cfg.disc_mass / cfg.central_mass});
-    s.disc_sampling.particles = s.ring.particles;
-    s.disc_sampling.seed = s.ring.seed;
-    s.disc_sampling.stratified = s.ring.stratified;
-    s.disc_sampling.sound_speed = s.ring.sound_speed;
-    s.disc_sampling.sound_speed_index = s.ring.sound_speed_index;
+    s.disc_sampling.placement = placed;
   }
   s.phys.gamma = cfg.gamma;
   s.sedov = cfg.problem == "sedov";
   if (s.sedov) {
     s.phys.gm = 0.0;  // no point mass, nothing to accrete
     s.phys.accretion_radius = 0.0;
-    s.sedov_blast = SedovBlast{s.ring.particles, cfg.blast_energy, cfg.gamma, cfg.neighbours};
+    s.sedov_blast = SedovBlast{placed.particles, cfg.blast_energy, cfg.gamma, cfg.neighbours};
   }
   s.tau_rate = 12.0 * s.phys.nu;
   return s;

@@ -24,7 +24,7 @@ double standard_normal(double u1, double u2) {
   return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
-double sound_speed_at_radius(const DiscSampling& s, double R) { return s.sound_speed * std::pow(R, -s.sound_speed_index); }
+double sound_speed_at_radius(const DiscSampling& s, double R) { return s.placement.sound_speed * std::pow(R, -s.placement.sound_speed_index); }
 
 // The azimuthal speed that holds a particle at cylindrical radius R and height z on a circle:
 // v_phi^2 = G M R^2 / (R^2 + z^2)^(3/2) + (R / rho) dP/dR, with P = c_s(R)^2 rho and rho the
@@ -33,7 +33,7 @@ double sound_speed_at_radius(const DiscSampling& s, double R) { return s.sound_s
 // underflowed or ends (far out in a ring's wings; at a disc's edges).
 template <int D>
 double circular_speed(const DiscSampling& s, double R, double z) {
-  if (!(s.sound_speed > 0)) return 1.0 / std::sqrt(R);  // Kepler (pressureless discs are 2D: z = 0)
+  if (!(s.placement.sound_speed > 0)) return 1.0 / std::sqrt(R);  // Kepler (pressureless discs are 2D: z = 0)
   const double gravity = R * R / std::pow(R * R + z * z, 1.5);
   auto ln_pressure = [&](double r) {
     const double c = sound_speed_at_radius(s, r);
@@ -58,9 +58,9 @@ double scale_height(const DiscSampling& s, double R) { return sound_speed_at_rad
 template <int D>
 Particles<D> sample_disc(const DiscSampling& s, std::size_t share, std::size_t shares) {
   static_assert(D == 2 || D == 3);
-  if (D == 3 && !(s.sound_speed > 0))
+  if (D == 3 && !(s.placement.sound_speed > 0))
     throw UserError(std::string(s.what) + " set-up: a 3D disc needs a sound speed for its vertical equilibrium (physics.aspect_ratio)");
-  if (s.particles == 0) throw UserError("problem.particles must be > 0");
+  if (s.placement.particles == 0) throw UserError("problem.particles must be > 0");
   if (shares == 0 || share >= shares) throw std::invalid_argument("sample_disc: share out of range");
   // Tabulated CDF of dM/dR = 2 pi R Sigma (trapezoid rule).
   std::vector<double> r(kGrid), cdf(kGrid, 0.0);
@@ -83,11 +83,11 @@ Particles<D> sample_disc(const DiscSampling& s, std::size_t share, std::size_t s
     return r[k - 1] + std::clamp(t, 0.0, 1.0) * (r[k] - r[k - 1]);
   };
 
-  const std::size_t n = s.particles;
+  const std::size_t n = s.placement.particles;
   Particles<D> p;
   p.resize(n > share ? (n - share + shares - 1) / shares : 0);
   constexpr int draws = D == 2 ? 2 : 4;  // radius, azimuth (and two for the height)
-  std::mt19937_64 gen(s.seed);
+  std::mt19937_64 gen(s.placement.seed);
   const double m = s.mass / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (i % shares != share) {  // another share's particle: draw its numbers, keep nothing
@@ -96,7 +96,7 @@ Particles<D> sample_disc(const DiscSampling& s, std::size_t share, std::size_t s
     }
     const std::size_t k = i / shares;
     const double u = uniform01(gen);
-    const double q = s.stratified ? (static_cast<double>(i) + u) / static_cast<double>(n) : u;
+    const double q = s.placement.stratified ? (static_cast<double>(i) + u) / static_cast<double>(n) : u;
     const double ri = inverse_cdf(q);
     // Uniform azimuth in both modes. (Not a golden-angle Vogel spiral: Keplerian shear turns it into
     // dense radial bands within a few orbits, far worse than random azimuths.)

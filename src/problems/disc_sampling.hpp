@@ -14,17 +14,23 @@
 
 namespace sphdisk {
 
+// How the particles of any disc set-up (the ring, the power-law disc) are placed: their number,
+// the seed, the radii's sampling, and the sound speed that sets heights and rotation.
+struct ParticlePlacement {
+  std::size_t particles = 10000;
+  std::uint64_t seed = 42;
+  bool stratified = false;     // Placement::Stratified (ring_setup.hpp): radii at (k + U)/N quantiles instead of U
+  // Pressure (code units): c_s(R) = sound_speed R^-sound_speed_index; 0: pressureless (2D only).
+  double sound_speed = 0;
+  double sound_speed_index = 0;
+};
+
 struct DiscSampling {
   std::function<double(double)> surface_density;  // Sigma(R), any normalisation (code units: G M = 1)
   std::function<double(double)> radial_velocity;  // v_R(R); empty: 0
   double r_lo = 0, r_hi = 0;   // radial range drawn from
   double mass = 0;             // total mass of the particles
-  std::size_t particles = 0;
-  std::uint64_t seed = 42;
-  bool stratified = false;     // radii at (k + U)/N quantiles instead of U (a low-noise variant)
-  // Pressure: c_s(R) = sound_speed R^-sound_speed_index; 0: pressureless (2D only).
-  double sound_speed = 0;
-  double sound_speed_index = 0;
+  ParticlePlacement placement;
   const char* what = "disc";   // the set-up, for error messages
 };
 

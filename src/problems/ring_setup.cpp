@@ -36,11 +36,7 @@ DiscSampling ring_sampling(const RingSetup& s) {
   d.radial_velocity = [sol = s.solution, tau = s.tau_start](double r) { return sol.radial_velocity(r, tau); };
   radial_range(s, d.r_lo, d.r_hi);
   d.mass = s.solution.disc_mass;
-  d.particles = s.particles;
-  d.seed = s.seed;
-  d.stratified = s.stratified;
-  d.sound_speed = s.sound_speed;
-  d.sound_speed_index = s.sound_speed_index;
+  d.placement = s.placement;
   d.what = "ring";
   return d;
 }
@@ -75,7 +71,7 @@ double ring_smoothing_length(const RingSetup& s, double neighbours) {
     if (k > 0) integral += 0.5 * (f + prev) * (r_hi - r_lo) / static_cast<double>(k_max - 1);
     prev = f;
   }
-  return std::sqrt(neighbours / (4.0 * std::numbers::pi * static_cast<double>(s.particles) * integral));
+  return std::sqrt(neighbours / (4.0 * std::numbers::pi * static_cast<double>(s.placement.particles) * integral));
 }
 
 }  // namespace sphdisk

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "core/particles.hpp"
+#include "problems/disc_sampling.hpp"
 #include "problems/ring_analytic.hpp"
 
 namespace sphdisk {
@@ -23,13 +24,8 @@ Placement placement_from_name(std::string_view name);
 struct RingSetup {
   RingSolution solution;       // code units: r0 = 1, G M = 1
   double tau_start = 0.018;
-  std::size_t particles = 10000;
-  std::uint64_t seed = 42;
-  bool stratified = false;     // Placement::Stratified: radii at (k + U)/N quantiles instead of U
+  ParticlePlacement placement;
   double accretion_radius = 0.05;
-  // Pressure (code units): c_s(R) = sound_speed R^-sound_speed_index; 0: pressureless (2D only).
-  double sound_speed = 0;
-  double sound_speed_index = 0;
 };
 
 // The particle set at tau_start in D = 2 or 3 dimensions (smoothing lengths left at zero).

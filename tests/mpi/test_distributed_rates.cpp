@@ -21,7 +21,7 @@ namespace {
 RingSetup ring(std::size_t n) {
   RingSetup s;
   s.solution = RingSolution{1e-10, 1.0, 4.778e-5};
-  s.particles = n;
+  s.placement.particles = n;
   return s;
 }
 

@@ -20,7 +20,7 @@ namespace {
 RingSetup small_ring(std::size_t n, double nu) {
   RingSetup s;
   s.solution = RingSolution{1e-10, 1.0, nu};
-  s.particles = n;
+  s.placement.particles = n;
   return s;
 }
 

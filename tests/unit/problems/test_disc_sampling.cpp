@@ -13,9 +13,9 @@ namespace {
 
 DiscSampling phantom_like_disc(std::size_t particles) {
   DiscSampling s = power_law_sampling({1.0, 5.0, 1.0, 1e-3});
-  s.particles = particles;
-  s.sound_speed = 0.05;  // H/R = 0.05 at R = 1
-  s.sound_speed_index = 0.25;
+  s.placement.particles = particles;
+  s.placement.sound_speed = 0.05;  // H/R = 0.05 at R = 1
+  s.placement.sound_speed_index = 0.25;
   return s;
 }
 

@@ -12,9 +12,9 @@ namespace {
 RingSetup ring_with_pressure(double aspect_ratio, double q) {
   RingSetup s;
   s.solution = RingSolution{1e-10, 1.0, 4.8e-5};
-  s.particles = 20000;
-  s.sound_speed = aspect_ratio;
-  s.sound_speed_index = q;
+  s.placement.particles = 20000;
+  s.placement.sound_speed = aspect_ratio;
+  s.placement.sound_speed_index = q;
   return s;
 }
 
@@ -25,7 +25,7 @@ double cylindrical_radius(const Vec<3>& x) { return std::hypot(x[0], x[1]); }
 TEST(RingSetup, HeightsFollowTheScaleHeightOfVerticalEquilibrium) {
   const RingSetup s = ring_with_pressure(0.05, 0.25);
   const Particles<3> p = make_ring<3>(s);
-  ASSERT_EQ(p.size(), s.particles);
+  ASSERT_EQ(p.size(), s.placement.particles);
   double mean = 0, mean_square = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double u = p.pos[i][2] / ring_scale_height(s, cylindrical_radius(p.pos[i]));
@@ -60,7 +60,7 @@ TEST(RingSetup, PressureTurnsTheRotationFasterInsideAndSlowerOutside) {
 TEST(RingSetup, WithoutPressureTheRingIsKeplerianIn2D) {
   RingSetup s;
   s.solution = RingSolution{1e-10, 1.0, 4.8e-5};
-  s.particles = 1000;
+  s.placement.particles = 1000;
   const Particles<2> p = make_ring<2>(s);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double R = std::sqrt(norm2(p.pos[i]));
