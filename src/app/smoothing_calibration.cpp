@@ -30,8 +30,8 @@ double calibrate_smoothing_length(Particles<D>& p, double target, ParticleDomain
   std::vector<double> support;
   for (int iter = 0; iter < 60; ++iter) {
     if (domain) {
-      const double support = 2.0 * h;
-      const auto radius = [support](std::size_t) { return support; };
+      const double reach = 2.0 * h;
+      const auto radius = [reach](std::size_t) { return reach; };
       build_cell_grid(domain->add_ghosts(p, h, radius, radius), p.pos, p.id, grid);
     } else {
       build_cell_grid(p.pos, p.id, h, grid);

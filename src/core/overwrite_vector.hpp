@@ -7,10 +7,10 @@
 // Types with default member initialisers (Vec, Mat) are still initialised by them.
 #include <memory>
 #include <type_traits>
-
-#include "core/large_allocations.hpp"
 #include <utility>
 #include <vector>
+
+#include "core/large_allocations.hpp"
 
 namespace sphdisk {
 
