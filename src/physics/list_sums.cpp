@@ -326,13 +326,13 @@ template <bool ArtificialViscosity>
   for (std::size_t c = 0; c < 9; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]);
   const __m512d inv_rho_i = _mm512_set1_pd(d.inv_rho[i]), mi = _mm512_set1_pd(d.mass[i]);
   const __m512d Pr_i = _mm512_set1_pd(d.p_over_rho2[i]);
-  __m512d ci = _mm512_setzero_pd(), limiter_i = ci, alpha_i = ci, beta = ci, half = ci;
+  __m512d ci = _mm512_setzero_pd(), limiter_i = ci, alpha_i = ci, beta = ci, minus_half = ci;
   if constexpr (ArtificialViscosity) {
     ci = _mm512_set1_pd(d.sound_speed[i]);
     limiter_i = _mm512_set1_pd(d.limiter ? d.limiter[i] : 1.0);
     alpha_i = _mm512_set1_pd(d.av_alpha[i]);
     beta = _mm512_set1_pd(d.av_beta);
-    half = _mm512_set1_pd(-0.5);
+    minus_half = _mm512_set1_pd(-0.5);
   }
   alignas(64) double to_i[3][8], to_j[3][8], work_i[8], work_j[8], signal[8];
   double signal_i = 0.0;
@@ -370,10 +370,10 @@ template <bool ArtificialViscosity>
       const __m512d bw = _mm512_mul_pd(beta, w);
       // artificial_viscosity_pair: -1/2 f (alpha c - beta w) w / rho, for each side
       const __m512d av_i = _mm512_mul_pd(
-          _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(half, limiter_i), _mm512_sub_pd(_mm512_mul_pd(alpha_i, ci), bw)), w),
+          _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(minus_half, limiter_i), _mm512_sub_pd(_mm512_mul_pd(alpha_i, ci), bw)), w),
           inv_rho_i);
       const __m512d av_j = _mm512_mul_pd(
-          _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(half, limiter_j), _mm512_sub_pd(_mm512_mul_pd(alpha_j, cj), bw)), w),
+          _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(minus_half, limiter_j), _mm512_sub_pd(_mm512_mul_pd(alpha_j, cj), bw)), w),
           inv_rho_j);
       Pr_to_i = _mm512_add_pd(Pr_to_i, av_i);
       Pr_to_j = _mm512_add_pd(Pr_to_j, av_j);
