@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/avx512_norms.hpp"
 #include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
 
@@ -35,11 +36,7 @@ std::size_t keep_from(std::uint32_t* idx, const double* d2, std::size_t k0, std:
   const __m512d b = avx512::load_f64(at + 8, m > 4 ? 2 * (m - 4) : 0);
   const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(a, even, b), _mm512_set1_pd(x[0]));
   const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(a, odd, b), _mm512_set1_pd(x[1]));
-#ifdef __FMA__
-  return _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx));
-#else
-  return _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-#endif
+  return avx512::squared_norms(dx, dy);
 }
 
 // 3D: x, y, z interleaved, three vectors; component c of entry k is double 3k + c, entries 0-5 (x)
@@ -56,11 +53,7 @@ std::size_t keep_from(std::uint32_t* idx, const double* d2, std::size_t k0, std:
   const __m512d dx = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, x_ab, b), x_c, c), _mm512_set1_pd(x[0]));
   const __m512d dy = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, y_ab, b), y_c, c), _mm512_set1_pd(x[1]));
   const __m512d dz = _mm512_sub_pd(_mm512_permutex2var_pd(_mm512_permutex2var_pd(a, z_ab, b), z_c, c), _mm512_set1_pd(x[2]));
-#ifdef __FMA__
-  return _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-#else
-  return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
-#endif
+  return avx512::squared_norms(dx, dy, dz);
 }
 
 // Eight candidates per round: their squared distances (above), the tests as one mask, the accepted

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "core/avx512_norms.hpp"
 #include "core/avx512_partner_loads.hpp"
 #include "core/vector_isa.hpp"
 
@@ -300,15 +301,6 @@ template <bool Subtract>
                          base[9 * r.j[4] + 8], base[9 * r.j[5] + 8], base[9 * r.j[6] + 8], base[9 * r.j[7] + 8]);
 }
 
-// x x + y y + z z as norm2 (core/vec.hpp) forms it: fused where the build has FMA.
-[[gnu::target("avx512f"), gnu::always_inline]] inline __m512d squared_norms(__m512d x, __m512d y, __m512d z) {
-#ifdef __FMA__
-  return _mm512_fmadd_pd(z, z, _mm512_fmadd_pd(y, y, _mm512_mul_pd(x, x)));
-#else
-  return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(x, x), _mm512_mul_pd(y, y)), _mm512_mul_pd(z, z));
-#endif
-}
-
 // 3D eq. 6 in the conservative form with pressure (no force correction), with or without the
 // artificial viscosity: eight partners per round, every pair term of force_list_terms<3, true,
 // false> (list_sums.hpp) formed for all of them with its operations in its order, then added to i's
@@ -366,7 +358,7 @@ template <bool ArtificialViscosity>
           _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vij[0], dx[0]), _mm512_mul_pd(vij[1], dx[1])), _mm512_mul_pd(vij[2], dx[2]));
       const __mmask8 approaching = _mm512_cmp_pd_mask(approach, _mm512_setzero_pd(), _CMP_LT_OQ);
       const __m512d w =
-          _mm512_maskz_div_pd(approaching, approach, _mm512_maskz_sqrt_pd(0xFF, squared_norms(dx[0], dx[1], dx[2])));
+          _mm512_maskz_div_pd(approaching, approach, _mm512_maskz_sqrt_pd(0xFF, avx512::squared_norms(dx[0], dx[1], dx[2])));
       const __m512d bw = _mm512_mul_pd(beta, w);
       // artificial_viscosity_pair: -1/2 f (alpha c - beta w) w / rho, for each side
       const __m512d av_i = _mm512_mul_pd(

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -129,40 +130,45 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
+// The list sums of run() on the scalar path, after checking that every vector path gives them bit
+// for bit (i's sums and the partners').
+template <class Run>
+auto scalar_after_every_path_agrees(Run run, const std::string& what = "") {
+  const auto scalar = test::on_path(VectorIsa::baseline, run);
+  for (const VectorIsa isa : test::vector_paths()) {
+    const auto vector = test::on_path(isa, run);
+    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa) << what;
+    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa) << what;
+  }
+  return scalar;
+}
+
+// Not vacuous: the second list (one partner) sums exactly that pair's terms (pair_terms.hpp).
+template <class F, int D>
+bool sums_of_the_pair_terms(const F& f, const Lists& l, const GradientSums<D>& got) {
+  GradientSums<D> expected{};
+  const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+  accumulate(expected, gradient_term(static_cast<double>(l.factors[1][0]), f.volume[j],
+                                     gradient_pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j])));
+  return std::memcmp(&got, &expected, sizeof expected) == 0;
+}
+
 }  // namespace
 
 TEST(ListSums, GradientPathsAgree) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return gradients(f, l); });
-  for (const VectorIsa isa : test::vector_paths()) {
-    const auto vector = test::on_path(isa, [&] { return gradients(f, l); });
-    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
-    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
-  }
-  // Not vacuous: the sums are those of the pair terms (one of them by hand).
-  const GradientSums<2> expected = [&] {
-    GradientSums<2> g{};
-    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
-    const GradientSums<2> shared = gradient_pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j]);
-    accumulate(g, gradient_term(static_cast<double>(l.factors[1][0]), f.volume[j], shared));
-    return g;
-  }();
-  EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
+  const auto scalar = scalar_after_every_path_agrees([&] { return gradients(f, l); });
+  EXPECT_TRUE(sums_of_the_pair_terms(f, l, scalar.own[1]));
 }
 
 TEST(ListSums, ForcePathsAgree) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return forces(f, l); });
+  const auto scalar = scalar_after_every_path_agrees([&] { return forces(f, l); });
   EXPECT_NE(scalar.stored[0], (Vec<2>{{0.25, -0.5}}));  // the partners' accelerations were written
-  for (const VectorIsa isa : test::vector_paths()) {
-    const auto vector = test::on_path(isa, [&] { return forces(f, l); });
-    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
-    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
-  }
 }
 
 namespace {
@@ -332,18 +338,8 @@ TEST(ListSums, GradientPathsAgreeIn3D) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields3 f = random_fields_3d();
   const Lists l = random_lists();
-  const auto scalar = test::on_path(VectorIsa::baseline, [&] { return gradients_3d(f, l); });
-  for (const VectorIsa isa : test::vector_paths()) {
-    const auto vector = test::on_path(isa, [&] { return gradients_3d(f, l); });
-    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
-    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
-  }
-  // Not vacuous: the sums are those of the pair terms (one of them by hand).
-  GradientSums<3> expected{};
-  const std::uint32_t i = l.owner[1], j = l.partners[1][0];
-  accumulate(expected, gradient_term(static_cast<double>(l.factors[1][0]), f.volume[j],
-                                     gradient_pair_products(f.vel[j] - f.vel[i], f.pos[i] - f.pos[j])));
-  EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
+  const auto scalar = scalar_after_every_path_agrees([&] { return gradients_3d(f, l); });
+  EXPECT_TRUE(sums_of_the_pair_terms(f, l, scalar.own[1]));
 }
 
 // With pressure, with and without the artificial viscosity and its limiter: the accelerations,
@@ -353,15 +349,11 @@ TEST(ListSums, PressureForcePathsAgreeIn3D) {
   const Fields3 f = random_fields_3d();
   const Lists l = random_lists();
   for (const auto& [viscosity, limiter] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
-    const auto scalar = test::on_path(VectorIsa::baseline, [&] { return pressure_forces_3d(f, l, viscosity, limiter); });
+    const auto scalar = scalar_after_every_path_agrees([&] { return pressure_forces_3d(f, l, viscosity, limiter); },
+                                                       " viscosity " + std::to_string(viscosity) + " limiter " + std::to_string(limiter));
     EXPECT_NE(scalar.stored[0].a[2], 0.125);  // the partners' accelerations were written
     EXPECT_NE(scalar.stored[0].du, 0.75);
     if (viscosity) EXPECT_NE(scalar.stored[0].signal, 0.5);
-    for (const VectorIsa isa : test::vector_paths()) {
-      const auto vector = test::on_path(isa, [&] { return pressure_forces_3d(f, l, viscosity, limiter); });
-      EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa) << " viscosity " << viscosity << " limiter " << limiter;
-      EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa) << " viscosity " << viscosity << " limiter " << limiter;
-    }
   }
 }
 
@@ -389,13 +381,8 @@ TEST(ListSums, ConsistentForcePathsAgree) {
       add_force_list(d, i, js, F, own, du);
     });
   };
-  const auto scalar = test::on_path(VectorIsa::baseline, consistent);
+  const auto scalar = scalar_after_every_path_agrees(consistent);
   EXPECT_NE(scalar.stored[0], (Vec<2>{{0.25, -0.5}}));
-  for (const VectorIsa isa : test::vector_paths()) {
-    const auto vector = test::on_path(isa, consistent);
-    EXPECT_TRUE(same_bits(vector.own, scalar.own)) << vector_isa_name(isa);
-    EXPECT_TRUE(same_bits(vector.stored, scalar.stored)) << vector_isa_name(isa);
-  }
   const std::uint32_t i = l.owner[1], j = l.partners[1][0];
   const Vec<2> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
   const Mat<2> Si = as_double(f.stress[i]), Sj = as_double(f.stress[j]);
