@@ -134,7 +134,6 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
   const __m512i left1 = _mm512_setr_epi64(6, 0, 0, 0, 1, 1, 1, 2), right1 = _mm512_setr_epi64(2, 0, 1, 2, 0, 1, 2, 0);
   const __m512i left2 = _mm512_setr_epi64(2, 2, 0, 0, 0, 0, 0, 0), right2 = _mm512_setr_epi64(1, 2, 0, 0, 0, 0, 0, 0);
   const __m512i sign1 = _mm512_setr_epi64(0, INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN);
-  const __m512i sign2 = _mm512_set1_epi64(INT64_MIN);
   double* own = reinterpret_cast<double*>(&sum_i);
   __m512d s0 = _mm512_loadu_pd(own), s1 = _mm512_loadu_pd(own + 8);
   __m128d s2 = _mm_loadu_pd(own + 16);
@@ -146,8 +145,7 @@ static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's 
     const __m512d p0 = _mm512_mul_pd(_mm512_maskz_permutexvar_pd(0xFF, left0, u), _mm512_maskz_permutexvar_pd(0xFF, right0, u));
     const __m512d p1 = _mm512_castsi512_pd(_mm512_xor_si512(
         _mm512_castpd_si512(_mm512_mul_pd(_mm512_maskz_permutexvar_pd(0xFF, left1, u), _mm512_maskz_permutexvar_pd(0xFF, right1, u))), sign1));
-    const __m512d p2 = _mm512_castsi512_pd(_mm512_xor_si512(
-        _mm512_castpd_si512(_mm512_mul_pd(_mm512_maskz_permutexvar_pd(0xFF, left2, u), _mm512_maskz_permutexvar_pd(0xFF, right2, u))), sign2));
+    const __m512d p2 = negated(_mm512_mul_pd(_mm512_maskz_permutexvar_pd(0xFF, left2, u), _mm512_maskz_permutexvar_pd(0xFF, right2, u)));
     const double f = static_cast<double>(F[q]);
     const __m512d wi = _mm512_set1_pd(f * d.volume[j]);
     s0 = _mm512_add_pd(s0, _mm512_mul_pd(p0, wi));
