@@ -36,13 +36,16 @@ template <int D>
 template <class K>
 bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t active) {
   const std::size_t owned = p.size();
-  // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
-  par::for_each(active, [&p](std::size_t i) {
-    const double h = p.h[i];
-    p.h[i] = predicted_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
-    remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
-  });
-  smoothing_length_solves_ += active;
+  // A super-step's stage (stage_) keeps h and rho: no solve, the cells of the evaluation before.
+  if (!stage_) {
+    // Each solve starts from h extrapolated from the particle's last solutions (smoothing_length.hpp).
+    par::for_each(active, [&p](std::size_t i) {
+      const double h = p.h[i];
+      p.h[i] = predicted_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
+      remember_smoothing_length(h, p.h_prev[i], p.h_prev2[i]);
+    });
+    smoothing_length_solves_ += active;
+  }
   // One process, every particle active (the common case): the gather lists are made in the pair
   // loops' tile order, and the half lists are left inside them, where the loops read them
   // (pair_lists.hpp). Else list i is particle i's, as appending (inactive particles) needs.
@@ -51,9 +54,14 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
   // The median h sets the cell size (kCellOverMedianH): the denser particles scan few cells and the
   // rest (larger h) reach over more cells; any cell size gives the same lists.
   if (domain_) {
-    const std::uint64_t total = domain_->sum(owned);
-    cell_size = kCellOverMedianH<D> * domain_->kth_smallest(p.h, total / 2);
-    widest_support_ = 2.0 * domain_->kth_smallest(p.h, static_cast<std::uint64_t>(kTileQuantile * static_cast<double>(total)));
+    if (stage_) {
+      cell_size = kept_.cell_size;
+      widest_support_ = kept_.widest_support;
+    } else {
+      const std::uint64_t total = domain_->sum(owned);
+      cell_size = kCellOverMedianH<D> * domain_->kth_smallest(p.h, total / 2);
+      widest_support_ = 2.0 * domain_->kth_smallest(p.h, static_cast<std::uint64_t>(kTileQuantile * static_cast<double>(total)));
+    }
     need_.resize(owned);
     reach_.resize(owned);
     for (std::size_t i = 0; i < owned; ++i) {
@@ -64,11 +72,17 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
   } else if (whole_.set) {  // the involved particles of a partial evaluation: the whole set's lattice
     cell_size = whole_.lattice.cell_size;
     widest_support_ = whole_.widest_support;
+  } else if (stage_) {
+    cell_size = kept_.cell_size;
+    widest_support_ = kept_.widest_support;
   } else {
     const CellsAndTiles c = cells_and_tiles<D>(p.h);
     cell_size = c.cell_size;
     widest_support_ = c.widest_support;
   }
+  // (A partial evaluation on the involved particles takes the whole set's choices: the same ones.)
+  const bool grid_kept = stage_ && kept_.grid_of_all;
+  if (!stage_) kept_ = {true, cell_size, widest_support_, !domain_ && !whole_.set};
   for (;;) {
     Lattice<D> lattice;
     if (domain_) {
@@ -85,7 +99,9 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
       build_cell_grid(lattice, p.pos, p.id, grid_);
     } else {
       ScopedPhase t(timers_, "cell_build");
-      build_cell_grid(p.pos, p.id, cell_size, grid_);
+      // (A stage's particles have not moved: the same cells, the particles only renumbered.)
+      if (grid_kept) renumber_particles(grid_, moved_);
+      else build_cell_grid(p.pos, p.id, cell_size, grid_);
       lattice = Lattice<D>{grid_.lo, grid_.cell_size, grid_.dims};  // one process: the grid is the lattice
     }
     double extent = 0;  // a search beyond twice the lattice's diagonal cannot find more particles
@@ -98,6 +114,7 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
     solve_sums_.assign(active, 0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {
+      if (stage_) return std::min(searched, 2.0 * p.h[i]);  // h kept: only its gather list
       const SmoothingLengthResult r = smoothing_length_at<K, D>(i, p, cand, dist2, p.h[i], eta_, 0.5 * searched, uniform_mass);
       solve_sums_[i] += static_cast<std::uint32_t>(r.sums);  // (a wider search solves i again)
       if (r.beyond_candidates && searched < widest) {
@@ -120,7 +137,9 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
     {
       ScopedPhase t(timers_, "neighbour_search");
       if (tile_ordered) build_tile_order(grid_, tile_cells(), active, pairs_lists_, TileWrites::AllNeighbours);
-      if (storage_ == PairStorage::Rescan) settle_without_lists(grid_, p.pos, search_radius_, settle, active);
+      if (storage_ == PairStorage::Rescan) {
+        if (!stage_) settle_without_lists(grid_, p.pos, search_radius_, settle, active);  // (a stage: nothing to settle)
+      }
       // Left in the search's blocks (the half lists are made there; appending joins them).
       else build_settled_neighbour_lists(grid_, p.pos, search_radius_, settle, candidates_, active, false,
                                          tile_ordered ? pairs_lists_.order.data() : nullptr);

@@ -44,6 +44,7 @@ RateEvaluator<D>::RateEvaluator(KernelType kernel, double h, PhysicsParams phys,
 
 template <int D>
 void RateEvaluator<D>::release_rebuilt_memory() {
+  kept_ = {};
   release_memory(grid_, candidates_, search_radius_, slopes_, pairs_lists_,
                  writable_filter_, factors_, gradient_sums_, heating_scratch_, force_scratch_.inv_rho,
                  force_scratch_.p_over_rho2, force_scratch_.log_rho, force_scratch_.rho_without_self, force_scratch_.scales,
@@ -53,28 +54,25 @@ void RateEvaluator<D>::release_rebuilt_memory() {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
   active = std::min(active, p.size());
+  kept_ = {};
   if (evaluate_involved(p, active)) return;
   evaluate_particles(p, active);
 }
 
 template <int D>
-void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active) {
+void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active, std::span<const std::uint32_t> moved) {
   active = std::min(active, p.size());
-  if (smoothing_ != Smoothing::Adaptive) {
+  if (smoothing_ != Smoothing::Adaptive || !kept_.valid) {
     evaluate(p, active);
     return;
   }
-  history_.resize(2 * active);
-  par::for_each(active, [&](std::size_t i) {
-    history_[2 * i] = p.h_prev[i];
-    history_[2 * i + 1] = p.h_prev2[i];
-    p.h_prev[i] = p.h_prev2[i] = p.h[i];  // predicted_smoothing_length then starts from h
-  });
-  evaluate(p, active);
-  par::for_each(active, [&](std::size_t i) {
-    p.h_prev[i] = history_[2 * i];
-    p.h_prev2[i] = history_[2 * i + 1];
-  });
+  // (Over all particles: the stages are few next to the partial evaluations the involved particles
+  // serve, and their search without a solve is light.)
+  stage_ = true;
+  moved_ = moved;
+  evaluate_particles(p, active);
+  stage_ = false;
+  moved_ = {};
 }
 
 
@@ -246,7 +244,7 @@ int RateEvaluator<D>::tile_cells() const {
 template <int D>
 std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() const {
   std::size_t scratch = 0;
-  for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_, &history_}) scratch += v->capacity() * sizeof(double);
+  for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
   scratch += gradient_sums_.capacity() * sizeof(GradientSums<D>) + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity() + force_scratch_.log_rho.capacity() +
               force_scratch_.rho_without_self.capacity() + 2 * force_scratch_.scales.capacity()) *

@@ -62,11 +62,12 @@ class RateEvaluator final : public RateSource<D> {
   // as over all particles, at a cost that follows the active ones.
   void evaluate(Particles<D>& p, std::size_t active) override;
   // Another evaluation of the same first `active` particles at the positions of the last one, with
-  // other velocities (the stages of a super-step, integrate/super_steps.hpp): their smoothing-length
-  // solves start from the h just solved for, and the h history is left as the last evaluation left
-  // it, so that the next step's extrapolation (physics/smoothing_length.hpp) does not see steps of
-  // zero length.
-  void evaluate_again(Particles<D>& p, std::size_t active) override;
+  // other velocities (the stages of a super-step, integrate/super_steps.hpp). With adaptive h, h and
+  // rho stay those of the last evaluation (they depend on the positions alone; the h history is
+  // left as it was), so every stage applies the same viscous operator to new velocities, and the
+  // cells keep their size (on one process with pairs searched anew the cells themselves are kept,
+  // renumbered by `moved`): no smoothing-length solve, only the pair loops and what they need.
+  void evaluate_again(Particles<D>& p, std::size_t active, std::span<const std::uint32_t> moved) override;
 
   // Particles spread over processes (distributed_domain.hpp): evaluate() then adds ghosts, builds
   // its cells on the shared lattice, refreshes the ghosts between passes and removes them again.
@@ -173,7 +174,16 @@ class RateEvaluator final : public RateSource<D> {
   ParticleDomain<D>* domain_ = nullptr;
   NeighbourLists candidates_;   // Adaptive: gather candidates of the smoothing-length solve
   std::vector<double> search_radius_;
-  std::vector<double> history_;  // evaluate_again: the h history it keeps aside
+  // What a super-step stage (evaluate_again, adaptive h) takes from the evaluation before it: the
+  // cell size and the tiles' span, and whether grid_ holds the cells of all particles on one process.
+  struct KeptSearch {
+    bool valid = false;
+    double cell_size = 0;
+    double widest_support = 0;
+    bool grid_of_all = false;
+  } kept_;
+  bool stage_ = false;                       // inside evaluate_again: h and rho stay
+  std::span<const std::uint32_t> moved_;     // evaluate_again's renumbering of the particles
   std::vector<double> need_, reach_, h_start_, halo_short_;  // Adaptive with a domain: halo radii
   std::vector<KernelSlope> slopes_;  // Adaptive: each particle's kernel slope (density.hpp)
   PairStorage storage_ = PairStorage::Stored;

@@ -246,18 +246,19 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   // Stable counting sort of the first `count` particles by key(i) < buckets; nothing is moved when
-  // they are in order already.
+  // they are in order already. Whether any moved (then particle k is the one that was order_[k]).
   template <class Key>
-  void sort_prefix(Particles<D>& p, std::size_t count, std::size_t buckets, Key key) {
+  bool sort_prefix(Particles<D>& p, std::size_t count, std::size_t buckets, Key key) {
     bool sorted = true;
     for (std::size_t i = 1; i < count && sorted; ++i) sorted = key(i - 1) <= key(i);
-    if (sorted) return;
+    if (sorted) return false;
     std::vector<std::size_t> next(buckets + 1, 0);
     for (std::size_t i = 0; i < count; ++i) ++next[key(i) + 1];
     for (std::size_t b = 1; b <= buckets; ++b) next[b] += next[b - 1];
     order_.resize(count);
     for (std::size_t i = 0; i < count; ++i) order_[next[key(i)]++] = static_cast<std::uint32_t>(i);
     p.for_each_field([this](const FieldInfo&, auto& v) { par::permute_prefix(v, order_, "integration"); });
+    return true;
   }
 
   // The same grouping inside a cycle, moving only the particles outside their bin's range: the k-th
@@ -309,7 +310,7 @@ class BlockLeapfrog final : public Integrator<D> {
     const PhysicsParams& phys = rates_.physics();
     const double limit = explicit_viscous_limit(phys);
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
-    // (from the h just solved for; fixed for the update, though the later evaluations solve for h anew)
+    // (from the h just solved for, which the later evaluations keep: RateEvaluator::evaluate_again)
     const auto plan_at = [&](std::size_t i) {
       const double nu = largest_viscosity_at(phys, p.pos[i]);
       return super_step_plan(nu > 0 ? tau(i) * nu / (limit * p.h[i] * p.h[i]) : 0.0);
@@ -320,19 +321,24 @@ class BlockLeapfrog final : public Integrator<D> {
     }, "integration");
     rates_.evaluate(p, active);
     int most = 1;
+    bool moved = false;
     {
       ScopedPhase timer(rates_.timers(), "integration");
       const double mine = par::reduce(active, 1.0, [&](std::size_t i) { return double(plan_at(i).evaluations); },
                                       [](double a, double b) { return std::max(a, b); });
       most = static_cast<int>(rates_.global_max(mine));
-      if (most > 1) sort_prefix(p, active, static_cast<std::size_t>(most), [&](std::size_t i) {
+      if (most > 1) moved = sort_prefix(p, active, static_cast<std::size_t>(most), [&](std::size_t i) {
         return static_cast<std::size_t>(most - plan_at(i).evaluations);
       });
       plans_.resize(active);
       par::for_each(active, [&](std::size_t i) { plans_[i] = plan_at(i); }, "integration");
     }
     const auto plan_of = [this](std::size_t i) { return plans_[i]; };
-    const auto rate = [&](std::size_t m) { rates_.evaluate_again(p, m); };
+    // (The first stage learns how the sort above renumbered the particles.)
+    const auto rate = [&](std::size_t m) {
+      rates_.evaluate_again(p, m, moved ? std::span<const std::uint32_t>(order_) : std::span<const std::uint32_t>());
+      moved = false;
+    };
     const auto each = [](std::size_t m, auto&& f) { par::for_each(m, f, "integration"); };
     velocities_.bind(p.vel, p.acc, active);
     if (energy) {

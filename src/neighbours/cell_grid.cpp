@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/overwrite_vector.hpp"
 #include "parallel/loops.hpp"
 
 namespace sphdisk {
@@ -80,7 +81,8 @@ void fill_cell_grid(const Lattice<D>& lattice, const Vec<D>& lo, const Vec<D>& h
   for (std::size_t c = 0; c < ncells; ++c) g.offsets[c + 1] += g.offsets[c];
   g.sorted.resize(n);
   {
-    std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+    // (An OverwriteVector: a copy of one entry per cell made every evaluation lies on huge pages.)
+    OverwriteVector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
     for (std::size_t i = 0; i < n; ++i) g.sorted[fill[key[i]]++] = static_cast<std::uint32_t>(i);
   }
   // Order inside each cell by x, then by particle ID (cells hold a handful of particles: insertion
@@ -155,6 +157,16 @@ void build_cell_grid(const Lattice<D>& lattice, const std::vector<Vec<D>>& pos, 
   if (!pos.empty()) bounding_box(pos, lo, hi);
   fill_cell_grid(lattice, lo, hi, pos, id, g);
 }
+template <int D>
+void renumber_particles(CellGrid<D>& g, std::span<const std::uint32_t> moved) {
+  if (moved.empty()) return;
+  OverwriteVector<std::uint32_t> now(moved.size());
+  par::for_each(moved.size(), [&](std::size_t k) { now[moved[k]] = static_cast<std::uint32_t>(k); });
+  par::for_each(g.sorted.size(), [&](std::size_t s) {
+    if (g.sorted[s] < moved.size()) g.sorted[s] = now[g.sorted[s]];
+  }, {}, 4096);
+}
+
 template struct CellGrid<2>;
 template struct CellGrid<3>;
 template Lattice<2> make_lattice(const Vec<2>&, const Vec<2>&, std::size_t, double);
@@ -165,5 +177,7 @@ template void build_cell_grid(const std::vector<Vec<2>>&, const std::vector<std:
 template void build_cell_grid(const std::vector<Vec<3>>&, const std::vector<std::uint64_t>&, double, CellGrid<3>&);
 template void bounding_box(const std::vector<Vec<2>>&, Vec<2>&, Vec<2>&);
 template void bounding_box(const std::vector<Vec<3>>&, Vec<3>&, Vec<3>&);
+template void renumber_particles(CellGrid<2>&, std::span<const std::uint32_t>);
+template void renumber_particles(CellGrid<3>&, std::span<const std::uint32_t>);
 
 }  // namespace sphdisk

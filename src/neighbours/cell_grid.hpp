@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/vec.hpp"
@@ -96,5 +97,11 @@ CellGrid<D> build_cell_grid(const std::vector<Vec<D>>& pos, const std::vector<st
 // Bounding box shared by the grid builder and the tests.
 template <int D>
 void bounding_box(const std::vector<Vec<D>>& pos, Vec<D>& lo, Vec<D>& hi);
+
+// The grid of particles that did not move but of which the first moved.size() were renumbered:
+// particle k is now the one that was particle moved[k] (a permutation of 0 .. moved.size() - 1).
+// Cells and their order stay as they are.
+template <int D>
+void renumber_particles(CellGrid<D>& g, std::span<const std::uint32_t> moved);
 
 }  // namespace sphdisk

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/overwrite_vector.hpp"
 #include "parallel/trace.hpp"
 
 #ifdef SPHDISK_HAVE_OPENMP
@@ -52,14 +53,16 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 
 // v[to(k)] = old v[from[k]] for k < from.size() (to: a permutation of the positions in from).
 // The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
-// this thread alone. (Moving them a word at a time would hold 8 bytes per value rather than a
+// this thread alone; through an UnsetVector, so that the tens of MiB a block cycle's sorts move at a
+// time lie on huge pages (core/large_allocations.hpp), not on thousands of fresh 4 KiB pages each
+// faulted in. (Moving them a word at a time would hold 8 bytes per value rather than a
 // tensor's 32, but slows the block integrator's sorts, and the sorts do not lie at the rescan
 // mode's peak memory: docs/performance.md, "Memory per particle".)
 template <class T, class A, class Index, class To>
 void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::string_view trace_label) {
   static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
-  const auto moved = std::make_unique_for_overwrite<std::byte[]>(from.size() * sizeof(T));
-  std::byte* at = moved.get();
+  UnsetVector<std::byte> moved(from.size() * sizeof(T));
+  std::byte* at = moved.data();
   for_each(from.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[from[k]], sizeof(T)); }, trace_label, 4096);
   for_each(from.size(), [&](std::size_t k) { std::memcpy(&v[to(k)], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
 }

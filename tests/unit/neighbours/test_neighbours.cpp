@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "neighbours/cell_grid.hpp"
 #include "neighbours/neighbour_lists.hpp"
 #include "parallel/loops.hpp"
 #include "test_helpers.hpp"
@@ -36,6 +37,33 @@ TEST(Neighbours, EqualBruteForceRandom2D) { check_against_brute_force(test::rand
 TEST(Neighbours, EqualBruteForceClustered2D) { check_against_brute_force(test::random_particles<2>(2000, 2, true), 0.02); }
 TEST(Neighbours, EqualBruteForceRandom3D) { check_against_brute_force(test::random_particles<3>(2000, 3, false), 0.12); }
 TEST(Neighbours, EqualBruteForceClustered3D) { check_against_brute_force(test::random_particles<3>(2000, 4, true), 0.05); }
+
+// A grid renumbered after a prefix of the particles was permuted (renumber_particles) is the grid
+// built anew from the permuted particles: cells, their order and their contents.
+template <int D>
+void check_renumbered_grid(Particles<D> p, double cell_size) {
+  CellGrid<D> grid;
+  build_cell_grid(p.pos, p.id, cell_size, grid);
+  const std::size_t prefix = 2 * p.size() / 3;
+  std::vector<std::uint32_t> moved(prefix);
+  for (std::size_t k = 0; k < prefix; ++k) moved[k] = static_cast<std::uint32_t>((k * 7919) % prefix);  // 7919 prime, coprime to prefix
+  par::permute_prefix(p.pos, moved);
+  par::permute_prefix(p.id, moved);
+  renumber_particles(grid, std::span<const std::uint32_t>(moved));
+  CellGrid<D> rebuilt;
+  build_cell_grid(p.pos, p.id, cell_size, rebuilt);
+  EXPECT_EQ(grid.sorted, rebuilt.sorted);
+  EXPECT_EQ(grid.offsets, rebuilt.offsets);
+  EXPECT_EQ(grid.sorted_pos, rebuilt.sorted_pos);
+  bool any_moved = false;
+  for (std::size_t k = 0; k < prefix; ++k) any_moved = any_moved || moved[k] != k;
+  EXPECT_TRUE(any_moved);
+}
+
+TEST(CellGrid, RenumberedAsBuiltAnew) {
+  check_renumbered_grid(test::random_particles<2>(3000, 5, true), 0.03);
+  check_renumbered_grid(test::random_particles<3>(3000, 6, true), 0.08);
+}
 
 // Cells of a third and a fifth of the radius: rows of up to 11 cells, clipped to the chord at each
 // row's nearest distance (a chord 1% short fails here). On a lattice with the cell size as spacing,

@@ -1,0 +1,104 @@
+// The stages of a super-step (RateEvaluator::evaluate_again): h and rho stay those of the
+// evaluation before, the particles may have been renumbered in between, and the rates are the same
+// viscous operator applied to the new velocities.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "evaluate/rate_evaluator.hpp"
+#include "parallel/loops.hpp"
+#include "test_helpers.hpp"
+
+using namespace sphdisk;
+
+namespace {
+
+// Each particle's values by ID.
+template <int D>
+struct Rates {
+  typename decltype(Particles<D>::h)::value_type h;  // (the fields' own types: float in the single preset)
+  typename decltype(Particles<D>::rho)::value_type rho;
+  typename decltype(Particles<D>::du_dt)::value_type du_dt;
+  typename decltype(Particles<D>::acc)::value_type acc;
+  typename decltype(Particles<D>::stress)::value_type stress;
+};
+template <int D>
+std::map<std::uint64_t, Rates<D>> rates_by_id(const Particles<D>& p, std::size_t count) {
+  std::map<std::uint64_t, Rates<D>> r;
+  for (std::size_t i = 0; i < count; ++i) r[p.id[i]] = {p.h[i], p.rho[i], p.du_dt[i], p.acc[i], p.stress[i]};
+  return r;
+}
+
+// An evaluation of all particles, the first half renumbered (reversed), then a stage of the first
+// third: their h, rho and rates come out as the evaluation left them, bit for bit (the same h and
+// cells, so the same sums in the same order), with no smoothing-length solve; a second stage with
+// every velocity doubled (and the stresses the others count with) doubles the accelerations and
+// stresses and quadruples the heating exactly (the viscous rates are linear in v, the heating
+// quadratic; doubling is exact in floating point).
+template <int D>
+void check_stages(Particles<D> p, double h0, PairStorage storage) {
+  std::fill(p.h.begin(), p.h.end(), h0);
+  PhysicsParams phys;
+  phys.nu = 0.01;
+  phys.gm = 0.0;
+  phys.evolve_energy = true;
+  PhaseTimers timers;
+  RateEvaluator<D> rates(KernelType::Cubic, h0, phys, timers, Smoothing::Adaptive, 50);
+  rates.set_pair_storage(storage);
+  rates.evaluate(p);
+  ASSERT_FALSE(p.du_dt.empty());
+  const std::size_t n = p.size(), half = n / 2, third = n / 3;
+  const auto before = rates_by_id(p, n);
+
+  std::vector<std::uint32_t> moved(half);
+  for (std::size_t k = 0; k < half; ++k) moved[k] = static_cast<std::uint32_t>(half - 1 - k);
+  p.for_each_field([&](const FieldInfo&, auto& v) { par::permute_prefix(v, moved); });
+  const std::size_t solves = rates.smoothing_length_solves();
+  rates.evaluate_again(p, third, moved);
+  EXPECT_EQ(rates.smoothing_length_solves(), solves);
+  for (std::size_t i = 0; i < third; ++i) {
+    const Rates<D>& b = before.at(p.id[i]);
+    ASSERT_EQ(p.h[i], b.h) << "particle " << p.id[i];
+    ASSERT_EQ(p.rho[i], b.rho) << "particle " << p.id[i];
+    ASSERT_EQ(p.acc[i], b.acc) << "particle " << p.id[i];
+    ASSERT_EQ(p.stress[i].c, b.stress.c) << "particle " << p.id[i];
+    ASSERT_EQ(p.du_dt[i], b.du_dt) << "particle " << p.id[i];
+  }
+
+  // (The others count with their stresses: doubled with their velocities.)
+  for (auto& v : p.vel) v = v * 2.0;
+  for (std::size_t i = third; i < n; ++i)
+    for (auto& c : p.stress[i].c) c *= 2.0;
+  rates.evaluate_again(p, third, {});
+  for (std::size_t i = 0; i < third; ++i) {
+    const Rates<D>& b = before.at(p.id[i]);
+    ASSERT_EQ(p.h[i], b.h) << "particle " << p.id[i];
+    ASSERT_EQ(p.acc[i], b.acc * 2.0) << "particle " << p.id[i];
+    for (std::size_t c = 0; c < b.stress.c.size(); ++c) ASSERT_EQ(p.stress[i].c[c], 2.0 * b.stress.c[c]) << "particle " << p.id[i];
+    ASSERT_EQ(p.du_dt[i], 4.0 * b.du_dt) << "particle " << p.id[i];
+  }
+  EXPECT_GT(rates.pair_interactions(), 0u);
+}
+
+// A sheared, jittered lattice (2D), 1,600 particles, h varying with the jitter.
+Particles<2> sheared_lattice() {
+  auto p = test::square_lattice(40, 0.02);
+  std::mt19937_64 g(57);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto& x : p.pos) x += Vec<2>{{0.006 * u(g), 0.006 * u(g)}};
+  for (std::size_t i = 0; i < p.size(); ++i) p.vel[i] = Vec<2>{{1.5 * p.pos[i][1] + 0.1 * u(g), 0.2 * p.pos[i][0]}};
+  return p;
+}
+
+}  // namespace
+
+TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesPairsSearchedAnew) {
+  check_stages(sheared_lattice(), 0.025, PairStorage::Rescan);
+  check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Rescan);
+}
+
+TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesStoredLists) {
+  check_stages(sheared_lattice(), 0.025, PairStorage::Stored);
+  check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Stored);
+}
