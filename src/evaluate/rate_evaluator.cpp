@@ -66,8 +66,8 @@ void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active, std::
     evaluate(p, active);
     return;
   }
-  // (Over all particles: the stages are few next to the partial evaluations the involved particles
-  // serve, and their search without a solve is light.)
+  // (Over all particles, not on a copy of the involved ones, which only stored lists use: a stage's
+  // search without a solve is light.)
   stage_ = true;
   moved_ = moved;
   evaluate_particles(p, active);

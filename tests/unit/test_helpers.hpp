@@ -28,6 +28,17 @@ inline Particles<2> square_lattice(int n, double dx) {
   return p;
 }
 
+// A sheared, jittered 40 x 40 lattice (spacing 0.02), so that adaptive h varies, with a shear flow
+// and noise in its velocities.
+inline Particles<2> sheared_lattice() {
+  auto p = square_lattice(40, 0.02);
+  std::mt19937_64 g(53);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto& x : p.pos) x += Vec<2>{{0.006 * u(g), 0.006 * u(g)}};
+  for (std::size_t i = 0; i < p.size(); ++i) p.vel[i] = Vec<2>{{1.5 * p.pos[i][1] + 0.1 * u(g), 0.2 * p.pos[i][0]}};
+  return p;
+}
+
 template <int D>
 Particles<D> random_particles(std::size_t n, unsigned seed, bool clustered) {
   std::mt19937_64 g(seed);

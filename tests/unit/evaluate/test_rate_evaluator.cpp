@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <random>
 
 #include "evaluate/rate_evaluator.hpp"
 #include "parallel/loops.hpp"
@@ -81,24 +80,14 @@ void check_stages(Particles<D> p, double h0, PairStorage storage) {
   EXPECT_GT(rates.pair_interactions(), 0u);
 }
 
-// A sheared, jittered lattice (2D), 1,600 particles, h varying with the jitter.
-Particles<2> sheared_lattice() {
-  auto p = test::square_lattice(40, 0.02);
-  std::mt19937_64 g(57);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (auto& x : p.pos) x += Vec<2>{{0.006 * u(g), 0.006 * u(g)}};
-  for (std::size_t i = 0; i < p.size(); ++i) p.vel[i] = Vec<2>{{1.5 * p.pos[i][1] + 0.1 * u(g), 0.2 * p.pos[i][0]}};
-  return p;
-}
-
 }  // namespace
 
 TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesPairsSearchedAnew) {
-  check_stages(sheared_lattice(), 0.025, PairStorage::Rescan);
+  check_stages(test::sheared_lattice(), 0.025, PairStorage::Rescan);
   check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Rescan);
 }
 
 TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesStoredLists) {
-  check_stages(sheared_lattice(), 0.025, PairStorage::Stored);
+  check_stages(test::sheared_lattice(), 0.025, PairStorage::Stored);
   check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Stored);
 }

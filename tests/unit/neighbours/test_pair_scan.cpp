@@ -279,18 +279,8 @@ void check_rates_equal_stored(Particles<D> p0, double h0, Smoothing smoothing, t
       test::expect_momentum_and_energy_conserved(scanned_p, "rescanned pairs");
 }
 
-// A sheared, jittered lattice (2D), 1,600 particles.
-Particles<2> sheared_lattice() {
-  auto p = test::square_lattice(40, 0.02);
-  std::mt19937_64 g(53);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (auto& x : p.pos) x += Vec<2>{{0.006 * u(g), 0.006 * u(g)}};
-  for (std::size_t i = 0; i < p.size(); ++i) p.vel[i] = Vec<2>{{1.5 * p.pos[i][1] + 0.1 * u(g), 0.2 * p.pos[i][0]}};
-  return p;
-}
-
 void check_rates_equal_stored(Smoothing smoothing, test::Form form, std::size_t active) {
-  check_rates_equal_stored(sheared_lattice(), 0.025, smoothing, form, active);
+  check_rates_equal_stored(test::sheared_lattice(), 0.025, smoothing, form, active);
 }
 
 }  // namespace
