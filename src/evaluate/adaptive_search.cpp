@@ -53,15 +53,22 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
   double cell_size;
   // The median h sets the cell size (kCellOverMedianH): the denser particles scan few cells and the
   // rest (larger h) reach over more cells; any cell size gives the same lists.
+  if (stage_) {  // a super-step's stage: the choices of the evaluation before it
+    cell_size = kept_.cell_size;
+    widest_support_ = kept_.widest_support;
+  } else if (domain_) {
+    const std::uint64_t total = domain_->sum(owned);
+    cell_size = kCellOverMedianH<D> * domain_->kth_smallest(p.h, total / 2);
+    widest_support_ = 2.0 * domain_->kth_smallest(p.h, static_cast<std::uint64_t>(kTileQuantile * static_cast<double>(total)));
+  } else if (whole_.set) {  // the involved particles of a partial evaluation: the whole set's lattice
+    cell_size = whole_.lattice.cell_size;
+    widest_support_ = whole_.widest_support;
+  } else {
+    const CellsAndTiles c = cells_and_tiles<D>(p.h);
+    cell_size = c.cell_size;
+    widest_support_ = c.widest_support;
+  }
   if (domain_) {
-    if (stage_) {
-      cell_size = kept_.cell_size;
-      widest_support_ = kept_.widest_support;
-    } else {
-      const std::uint64_t total = domain_->sum(owned);
-      cell_size = kCellOverMedianH<D> * domain_->kth_smallest(p.h, total / 2);
-      widest_support_ = 2.0 * domain_->kth_smallest(p.h, static_cast<std::uint64_t>(kTileQuantile * static_cast<double>(total)));
-    }
     need_.resize(owned);
     reach_.resize(owned);
     for (std::size_t i = 0; i < owned; ++i) {
@@ -69,16 +76,6 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
       reach_[i] = 2.0 * p.h[i] * kHaloMargin;
     }
     h_start_ = p.h;
-  } else if (whole_.set) {  // the involved particles of a partial evaluation: the whole set's lattice
-    cell_size = whole_.lattice.cell_size;
-    widest_support_ = whole_.widest_support;
-  } else if (stage_) {
-    cell_size = kept_.cell_size;
-    widest_support_ = kept_.widest_support;
-  } else {
-    const CellsAndTiles c = cells_and_tiles<D>(p.h);
-    cell_size = c.cell_size;
-    widest_support_ = c.widest_support;
   }
   // (A partial evaluation on the involved particles takes the whole set's choices: the same ones.)
   const bool grid_kept = stage_ && kept_.grid_of_all;
