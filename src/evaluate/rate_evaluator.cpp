@@ -66,11 +66,10 @@ void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active, std::
     evaluate(p, active);
     return;
   }
-  // (Over all particles, not on a copy of the involved ones, which only stored lists use: a stage's
-  // search without a solve is light.)
+  // (On a copy of the involved particles where few are in the stage, as evaluate does.)
   stage_ = true;
   moved_ = moved;
-  evaluate_particles(p, active);
+  if (!evaluate_involved(p, active)) evaluate_particles(p, active);
   stage_ = false;
   moved_ = {};
 }
