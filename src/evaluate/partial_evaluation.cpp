@@ -18,10 +18,7 @@ namespace {
 // bits are the same. With few active particles this halves an evaluation; with more, the involved
 // particles are a large part of all, and copying them, searching them and the occasional repeat
 // cost more than the work over all particles they spare (docs/performance.md, "Block timesteps").
-// Pairs searched anew already pass over inactive particles lightly (a per-cell filter), so there
-// only the smallest evaluations gain, whose cost over all particles is that of the passes over all.
 constexpr double kInvolvedActive = 0.02;
-constexpr double kInvolvedActiveRescan = 0.002;
 constexpr double kInvolvedMost = 0.5;
 
 }  // namespace
@@ -37,19 +34,15 @@ constexpr double kInvolvedMost = 0.5;
 template <int D>
 bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
   const std::size_t n = p.size();
-  const double most_active = storage_ == PairStorage::Stored ? kInvolvedActive : kInvolvedActiveRescan;
-  if (!involved_enabled_ || domain_ || active == 0 || static_cast<double>(active) > most_active * static_cast<double>(n))
+  if (!involved_enabled_ || domain_ || storage_ != PairStorage::Stored || active == 0 ||
+      static_cast<double>(active) > kInvolvedActive * static_cast<double>(n))
     return false;
   double cell_size;
   std::vector<double>& radius = whole_.complete_radius;
   radius.resize(active);
   {
     ScopedPhase t(timers_, "neighbour_search");
-    if (stage_) {  // a super-step's stage: h kept, the choices of the evaluation before (adaptive_search.cpp)
-      cell_size = kept_.cell_size;
-      whole_.widest_support = kept_.widest_support;
-      par::for_each(active, [&](std::size_t i) { radius[i] = kHaloMargin * 2.0 * kSkin * p.h[i]; });
-    } else if (smoothing_ == Smoothing::Adaptive) {
+    if (smoothing_ == Smoothing::Adaptive) {
       predicted_h_ = p.h;  // as adaptive_lists predicts them, before it takes the quantiles
       par::for_each(active, [&](std::size_t i) { predicted_h_[i] = predicted_smoothing_length(p.h[i], p.h_prev[i], p.h_prev2[i]); });
       const CellsAndTiles c = cells_and_tiles<D>(predicted_h_);
@@ -94,7 +87,6 @@ bool RateEvaluator<D>::evaluate_involved(Particles<D>& p, std::size_t active) {
     par::for_each(active, [&](std::size_t i) { to[i] = from[i]; });
   });
   ++involved_evaluations_;
-  kept_.grid_of_all = false;  // grid_ now holds the involved particles' cells
   return true;
 }
 

@@ -66,10 +66,11 @@ void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active, std::
     evaluate(p, active);
     return;
   }
-  // (On a copy of the involved particles where few are in the stage, as evaluate does.)
+  // (Over all particles, not on a copy of the involved ones, which only stored lists use: a stage's
+  // search without a solve is light.)
   stage_ = true;
   moved_ = moved;
-  if (!evaluate_involved(p, active)) evaluate_particles(p, active);
+  evaluate_particles(p, active);
   stage_ = false;
   moved_ = {};
 }

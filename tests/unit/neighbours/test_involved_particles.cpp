@@ -85,8 +85,7 @@ void expect_same_bits(Particles<D> a, const Particles<D>& b) {
 // all. involved: the evaluations expected on the involved particles.
 template <int D>
 void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours, std::size_t active, double shrink = 1.0,
-                               bool scattered = false, std::size_t involved = 2,
-                               PairStorage storage = PairStorage::Stored) {
+                               bool scattered = false, std::size_t involved = 2) {
   auto p = test::random_particles<D>(8000, 11, false);
   if (!scattered) {  // the active particles (the first ones) nearest a corner, as a time bin is a region of a disc
     std::vector<std::uint32_t> order(p.size());
@@ -108,8 +107,6 @@ void check_partial_evaluations(Smoothing smoothing, double h0, double neighbours
   auto on_involved = p, on_all = p;
   RateEvaluator<D> a(KernelType::Cubic, h0, test::viscous_no_gravity(0.01), timers, smoothing, neighbours);
   RateEvaluator<D> b(KernelType::Cubic, h0, test::viscous_no_gravity(0.01), timers, smoothing, neighbours);
-  a.set_pair_storage(storage);
-  b.set_pair_storage(storage);
   b.set_partial_on_involved(false);
   for (int round = 0; round < 2; ++round) {
     a.evaluate(on_involved, active);
@@ -133,14 +130,6 @@ TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllAdaptive2D) {
 }
 TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllAdaptive3D) {
   check_partial_evaluations<3>(Smoothing::Adaptive, 0.08, 57, 150);
-}
-// Pairs searched anew: only evaluations with at most 0.2% active (16 of 8,000) take the involved particles.
-TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllPairsSearchedAnew) {
-  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 12, 1.0, false, 2, PairStorage::Rescan);
-  check_partial_evaluations<3>(Smoothing::Adaptive, 0.08, 57, 16, 1.0, false, 2, PairStorage::Rescan);
-  check_partial_evaluations<2>(Smoothing::Constant, 0.015, 50, 12, 1.0, false, 2, PairStorage::Rescan);
-  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 10, 0.2, false, 2, PairStorage::Rescan);
-  check_partial_evaluations<2>(Smoothing::Adaptive, 0.02, 50, 40, 1.0, false, 0, PairStorage::Rescan);
 }
 TEST(PartialEvaluation, InvolvedParticlesGiveTheBitsOfAllConstantH) {
   check_partial_evaluations<2>(Smoothing::Constant, 0.015, 50, 150);
