@@ -195,8 +195,7 @@ class BlockLeapfrog final : public Integrator<D> {
   }
 
   std::size_t bytes() const override {
-    return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t) + velocities_.bytes() + energies_.bytes() +
-           plans_.capacity() * sizeof(SuperStepPlan);
+    return (order_.capacity() + holes_.capacity()) * sizeof(std::uint32_t) + velocities_.bytes() + energies_.bytes();
   }
 
  private:
@@ -330,19 +329,18 @@ class BlockLeapfrog final : public Integrator<D> {
       if (most > 1) moved = sort_prefix(p, active, static_cast<std::size_t>(most), [&](std::size_t i) {
         return static_cast<std::size_t>(most - plan_at(i).evaluations);
       });
-      plans_.resize(active);
-      par::for_each(active, [&](std::size_t i) { plans_[i] = plan_at(i); }, "integration");
     }
-    const auto plan_of = [this](std::size_t i) { return plans_[i]; };
+    // (Recomputed where asked for, not stored: the stages keep positions, h and step lengths.)
+    const auto plan_of = plan_at;
     // (The first stage learns how the sort above renumbered the particles.)
     const auto rate = [&](std::size_t m) {
       rates_.evaluate_again(p, m, moved ? std::span<const std::uint32_t>(order_) : std::span<const std::uint32_t>());
       moved = false;
     };
     const auto each = [](std::size_t m, auto&& f) { par::for_each(m, f, "integration"); };
-    velocities_.bind(p.vel, p.acc, active);
+    velocities_.bind(p.vel, p.acc, p.v_kick, active);  // (vel was set to v_kick above: Y_0)
     if (energy) {
-      energies_.bind(p.u, p.du_dt, active);
+      energies_.bind(p.u, p.du_dt, p.u_kick, active);
       super_step(active, most, plan_of, tau, rate, each, velocities_, energies_);
     } else {
       super_step(active, most, plan_of, tau, rate, each, velocities_);
@@ -377,7 +375,6 @@ class BlockLeapfrog final : public Integrator<D> {
   TimestepFactors step_factors_;  // the steps' criteria (with super-steps, a viscous limit max_stages reach)
   Rkl2Part<Vec<D>> velocities_;
   Rkl2Part<double> energies_;
-  std::vector<SuperStepPlan> plans_;  // each active particle's, during a super-step update
   double cycle_ = 0;       // the length of the cycle in progress
   std::uint64_t now_ = 0;  // its ticks done, while inside it (0 between cycles)
   std::vector<std::uint32_t> order_, holes_;

@@ -63,21 +63,24 @@ inline Rkl2Stage rkl2_stage(int s, int j) {
 }
 
 // One part of the state (velocities, internal energies): y is advanced in place, the caller's
-// rate() writes L(y) into l (both read through the vectors, which an evaluation may reallocate, e.g.
-// adding ghosts behind the particles); y0, l0 and prev (Y_0, L(Y_0), Y_(j-2)) are scratch kept here.
+// rate() writes L(y) into l, and y0 holds Y_0, the values y starts the step with, unchanged until
+// it ends (the caller's copy: the block steps' kick values; all three read through the vectors,
+// which an evaluation may reallocate, e.g. adding ghosts behind the particles); l0 and prev (L(Y_0),
+// Y_(j-2)) are scratch kept here.
 template <class Y>
 struct Rkl2Part {
   std::vector<Y>* y = nullptr;
   const std::vector<Y>* l = nullptr;
-  std::vector<Y> y0, l0, prev;
-  void bind(std::vector<Y>& values, const std::vector<Y>& rates, std::size_t n) {
+  const std::vector<Y>* y0 = nullptr;
+  std::vector<Y> l0, prev;
+  void bind(std::vector<Y>& values, const std::vector<Y>& rates, const std::vector<Y>& start, std::size_t n) {
     y = &values;
     l = &rates;
-    y0.resize(n);
+    y0 = &start;
     l0.resize(n);
     prev.resize(n);
   }
-  std::size_t bytes() const { return (y0.capacity() + l0.capacity() + prev.capacity()) * sizeof(Y); }
+  std::size_t bytes() const { return (l0.capacity() + prev.capacity()) * sizeof(Y); }
 };
 
 // One step of the autonomous system dy/dt = L(y), each component i over its own tau(i) with its own
@@ -94,7 +97,7 @@ struct Rkl2Part {
 // result does not depend on how the loop is split).
 template <class PlanOf, class Tau, class Rate, class Each, class... Part>
 void super_step(std::size_t n, int evaluations, PlanOf plan_of, Tau tau, Rate&& rate, Each&& each, Part&... parts) {
-  each(n, [&](std::size_t i) { ((parts.y0[i] = (*parts.y)[i], parts.l0[i] = (*parts.l)[i], parts.prev[i] = parts.y0[i]), ...); });
+  each(n, [&](std::size_t i) { ((parts.l0[i] = (*parts.l)[i], parts.prev[i] = (*parts.y0)[i]), ...); });
   std::size_t m = n;
   for (int k = 0; k < evaluations; ++k) {
     if (k > 0) {
@@ -110,19 +113,19 @@ void super_step(std::size_t n, int evaluations, PlanOf plan_of, Tau tau, Rate&& 
         (((*parts.y)[i] += (*parts.l)[i] * share), ...);
       } else if (k == 0) {
         const double first = rkl2_stage(plan.evaluations, 1).mu_tilde * t;
-        (((*parts.y)[i] = parts.y0[i] + (*parts.l)[i] * first), ...);
+        (((*parts.y)[i] = (*parts.y0)[i] + (*parts.l)[i] * first), ...);
       } else {
         const Rkl2Stage c = rkl2_stage(plan.evaluations, k + 1);
         const auto advance = [&](auto& part) {
           auto& y = (*part.y)[i];
-          const auto next = y * c.mu + part.prev[i] * c.nu + part.y0[i] * c.start() + (*part.l)[i] * (c.mu_tilde * t) +
+          const auto next = y * c.mu + part.prev[i] * c.nu + (*part.y0)[i] * c.start() + (*part.l)[i] * (c.mu_tilde * t) +
                             part.l0[i] * (c.gamma_tilde * t);
           part.prev[i] = y;
           y = next;
         };
         (advance(parts), ...);
       }
-      if (last) (((parts.prev[i] = (*parts.y)[i]), ((*parts.y)[i] = parts.y0[i])), ...);  // kept aside
+      if (last) (((parts.prev[i] = (*parts.y)[i]), ((*parts.y)[i] = (*parts.y0)[i])), ...);  // kept aside
     });
   }
   each(n, [&](std::size_t i) { (((*parts.y)[i] = parts.prev[i]), ...); });

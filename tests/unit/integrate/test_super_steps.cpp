@@ -72,13 +72,15 @@ HeatResult heat_after(double ratio, int stages, double t_end) {
   const double tau = ratio * h.explicit_limit();
   const int steps = static_cast<int>(std::lround(t_end / tau));
   Rkl2Part<double> part;
-  part.bind(h.y, h.l, h.n);
+  std::vector<double> start;  // Y_0 of each step
+  part.bind(h.y, h.l, start, h.n);
   const auto each = [](std::size_t n, auto&& f) {
     for (std::size_t i = 0; i < n; ++i) f(i);
   };
   const SuperStepPlan plan{true, stages > 0 ? stages : rkl2_stages(ratio)};
   for (int k = 0; k < steps; ++k) {
     h.rate();
+    start = h.y;
     super_step(h.n, plan.evaluations, [plan](std::size_t) { return plan; }, [tau](std::size_t) { return tau; },
                [&](std::size_t m) {
                  EXPECT_EQ(m, h.n);
@@ -135,7 +137,8 @@ TEST(SuperSteps, ComponentsTakeTheirOwnStepsAndPlans) {
   std::vector<double> y = {1.0, 2.0, 3.0, 4.0}, l(4);
   const std::vector<double> rate = {-2.0, 4.0, 0.25, 8.0};
   Rkl2Part<double> part;
-  part.bind(y, l, 4);
+  const std::vector<double> start = y;
+  part.bind(y, l, start, 4);
   const auto each = [](std::size_t n, auto&& f) {
     for (std::size_t i = 0; i < n; ++i) f(i);
   };
@@ -158,7 +161,8 @@ TEST(SuperSteps, ComponentsTakeTheirOwnStepsAndPlans) {
 TEST(SuperSteps, FinishedComponentsAreSeenAtTheirStart) {
   std::vector<double> y = {1.0, 0.0}, l(2);
   Rkl2Part<double> part;
-  part.bind(y, l, 2);
+  const std::vector<double> start = y;
+  part.bind(y, l, start, 2);
   std::vector<double> seen;  // y_1 as the later stages see it
   const auto rate = [&](std::size_t m) {
     const double d = y[0] - y[1];
