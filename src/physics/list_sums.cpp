@@ -23,6 +23,8 @@ namespace {
 
 static_assert(sizeof(Vec<2>) == 2 * sizeof(double), "positions and velocities are read as interleaved x, y");
 static_assert(offsetof(GradientSums<2>, M) == 4 * sizeof(double), "a particle's eq. 8 and moment sums are its first eight doubles");
+static_assert(offsetof(GradientMoments<2>, M) == 4 * sizeof(double) && sizeof(GradientMoments<2>) == 8 * sizeof(double),
+              "the kept eq. 8 and moment sums are eight doubles");
 
 // Rows r[c] (component c of eight pairs) to columns r[k] (the eight components of pair k).
 [[gnu::target("avx512f"), gnu::always_inline]] inline void transpose8(__m512d r[8]) {
@@ -107,6 +109,8 @@ struct Round {
 
 static_assert(sizeof(Vec<3>) == 3 * sizeof(double), "positions and velocities are read as x, y, z");
 static_assert(offsetof(GradientSums<3>, M) == 9 * sizeof(double), "a particle's eq. 8 and moment sums are its first 18 doubles");
+static_assert(offsetof(GradientMoments<3>, M) == 9 * sizeof(double) && sizeof(GradientMoments<3>) == 18 * sizeof(double),
+              "the kept eq. 8 and moment sums are 18 doubles");
 
 // x, y, z at p in lanes 0-2, 0 in lane 3 (two loads, no masked load).
 [[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline __m256d load_xyz(const double* p) {

@@ -28,8 +28,27 @@ namespace sphdisk {
 
 // The writable particles' sums of an evaluation: zeroed in parallel by zero_sums (viscous_stress.hpp),
 // so a new buffer is not zero-filled first (core/overwrite_vector.hpp).
+// V and M for every writable particle; the mixed correction's Shepard sums, which only it reads,
+// in an array of their own that is empty otherwise (56 of 120 bytes per particle in 2D).
 template <int D>
-using GradientSumsArray = UnsetVector<GradientSums<D>>;
+struct GradientMoments {
+  Mat<D> V, M;
+};
+template <int D>
+struct GradientSumsArray {
+  UnsetVector<GradientMoments<D>> moments;
+  UnsetVector<ShepardSums<D>> shepard;
+  // Particle i's sums (its Shepard sums zero where they are not kept).
+  GradientSums<D> operator[](std::size_t i) const {
+    GradientSums<D> s{moments[i].V, moments[i].M, {}};
+    if (!shepard.empty()) s.shepard = shepard[i];
+    return s;
+  }
+  bool empty() const { return moments.empty(); }
+  std::size_t bytes() const {
+    return moments.capacity() * sizeof(GradientMoments<D>) + shepard.capacity() * sizeof(ShepardSums<D>);
+  }
+};
 
 // Adds a pair term to a sum, component by component.
 template <int D>
@@ -58,17 +77,19 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
   return with_kernel(kernel, [&](auto k) { return pair_kernel_values<decltype(k)>(si, sj, r); });
 }
 
-// What the gradient sums of a list read and write: sums[j] for the partners j < writable.
-// scales: every particle's kernel scale, where the mixed correction's sums are wanted (else null).
+// What the gradient sums of a list read and write: sums[j] (and shepard[j]) for the partners
+// j < writable. scales: every particle's kernel scale, where the mixed correction's sums are wanted
+// (else null, and shepard is not written).
 template <int D>
 struct GradientListData {
   const Vec<D>* pos;
   const Vec<D>* vel;
   const double* volume;
-  GradientSums<D>* sums;
+  GradientMoments<D>* sums;
   std::size_t writable;
   const KernelScale* scales = nullptr;
   KernelType kernel = KernelType::Cubic;
+  ShepardSums<D>* shepard = nullptr;
 };
 
 // (always_inline: list_sums.cpp compiles it for AVX2 too.)
@@ -89,7 +110,7 @@ template <int D>
       ti.shepard = shepard_term(W, d.volume[j], g, dv, dx);
       tj.shepard = shepard_term(W, Vi, -g, -dv, -dx);
       accumulate(sum_i, ti);
-      if (j < d.writable) accumulate(d.sums[j], tj);
+      if (j < d.writable) accumulate(d.sums[j].V, tj.V), accumulate(d.sums[j].M, tj.M), accumulate(d.shepard[j], tj.shepard);
     } else {  // (the Shepard sums stay zero: only V and M)
       accumulate(sum_i.V, ti.V), accumulate(sum_i.M, ti.M);
       if (j < d.writable) accumulate(d.sums[j].V, tj.V), accumulate(d.sums[j].M, tj.M);

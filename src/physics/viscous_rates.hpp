@@ -18,7 +18,7 @@ template <int D, JoinsLoops Pairs>
 void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys,
                                       GradientSumsArray<D>& sums, ForceScratch& scratch, bool with_gravity) {
   const std::size_t m = pairs.writable();
-  zero_sums(m, sums);
+  zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
   const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);
   pairs.for_each_list_joined(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, d.scales)),
                              [&](std::uint32_t i) { settle_stress(p, i, sums[i], phys); }, force_list_body(p, d),

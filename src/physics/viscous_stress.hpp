@@ -44,6 +44,27 @@ auto sum_lists_into(std::vector<T, A>& sums, std::size_t m, AddList add_list) {
   };
 }
 
+// The same for the velocity-gradient sums: V and M, and the Shepard sums where shepard is true
+// (else released).
+template <int D>
+void zero_sums(std::size_t m, GradientSumsArray<D>& sums, bool shepard) {
+  zero_sums(m, sums.moments);
+  if (shepard) zero_sums(m, sums.shepard);
+  else release_memory(sums.shepard);
+}
+
+template <int D, class AddList>
+auto sum_lists_into(GradientSumsArray<D>& sums, std::size_t m, AddList add_list) {
+  return [&sums, m, add_list](std::uint32_t i, std::span<const std::uint32_t> js, std::span<float> F) {
+    GradientSums<D> sum_i{};
+    add_list(i, js, std::span<const float>(F), sum_i);
+    if (i >= m) return;
+    accumulate(sums.moments[i].V, sum_i.V);
+    accumulate(sums.moments[i].M, sum_i.M);
+    if (!sums.shepard.empty()) accumulate(sums.shepard[i], sum_i.shepard);
+  };
+}
+
 template <class Pairs, class T, class A, class AddList>
 void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list) {
   const std::size_t m = pairs.writable();
@@ -53,15 +74,16 @@ void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_l
 }
 
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
-// sized for the m writable particles; with the mixed correction also its Shepard sums (scales:
-// every particle's kernel scale, kernel_scales.hpp).
+// sized for the m writable particles (zero_sums); with the mixed correction also its Shepard sums
+// (scales: every particle's kernel scale, kernel_scales.hpp).
 template <int D>
 auto gradient_pair_terms(const Particles<D>& p, GradientSumsArray<D>& sums, std::size_t m, const PhysicsParams& phys,
                          const KernelScale* scales) {
   const bool mixed = phys.gradient_correction == GradientCorrection::Mixed;
   return [&p, &sums, m, mixed, scales, kernel = phys.kernel](std::uint32_t i, std::span<const std::uint32_t> js,
                                                             std::span<const float> F, GradientSums<D>& sum_i) {
-    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.data(), m, mixed ? scales : nullptr, kernel};
+    const GradientListData<D> d{p.pos.data(), p.vel.data(), p.volume.data(), sums.moments.data(), m,
+                                mixed ? scales : nullptr, kernel, mixed ? sums.shepard.data() : nullptr};
     add_gradient_list(d, i, js, F, sum_i);
   };
 }
@@ -146,7 +168,9 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
                             OverwriteVector<KernelScale>& scales) {
   const std::size_t m = pairs.writable();
   const KernelScale* s = fill_kernel_scales(p, phys, scales, "velocity_gradient");
-  sum_pair_lists(pairs, sums, gradient_pair_terms(p, sums, m, phys, s));
+  zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
+  pairs.for_each_list(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, s)), FactorUse::Read,
+                      "velocity_gradient", FarPairs::First);
   par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
 }
 

@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -91,26 +92,29 @@ Lists random_lists() {
 
 // Each list's sum for its owner (own) and what the lists added to the stored sums of the writable
 // particles, which start at `start`.
-template <class T>
+// What the lists write: the partners' (stored, as an evaluation keeps them) and each owner's sums.
+template <class T, class Own = T>
 struct ListResults {
-  std::vector<T> stored, own;
+  std::vector<T> stored;
+  std::vector<Own> own;
 };
 
-template <class T, class AddList>
-ListResults<T> sum_each_list(const Lists& l, const T& start, AddList&& add_list) {
-  ListResults<T> r;
+template <class Own = void, class T, class AddList>
+auto sum_each_list(const Lists& l, const T& start, AddList&& add_list) {
+  using O = std::conditional_t<std::is_void_v<Own>, T, Own>;
+  ListResults<T, O> r;
   r.stored.assign(kWritable, start);
   for (std::size_t k = 0; k < l.owner.size(); ++k) {
-    T own{};
+    O own{};
     add_list(r.stored.data(), l.owner[k], l.partners[k], l.factors[k], own);
     r.own.push_back(own);
   }
   return r;
 }
 
-ListResults<GradientSums<2>> gradients(const Fields& f, const Lists& l) {
-  return sum_each_list(l, GradientSums<2>{}, [&](GradientSums<2>* sums, std::uint32_t i, const auto& js, const auto& F,
-                                                 GradientSums<2>& own) {
+ListResults<GradientMoments<2>, GradientSums<2>> gradients(const Fields& f, const Lists& l) {
+  return sum_each_list<GradientSums<2>>(l, GradientMoments<2>{}, [&](GradientMoments<2>* sums, std::uint32_t i, const auto& js,
+                                                                     const auto& F, GradientSums<2>& own) {
     add_gradient_list({f.pos.data(), f.vel.data(), f.volume.data(), sums, kWritable}, i, js, F, own);
   });
 }
@@ -291,9 +295,9 @@ Fields3 random_fields_3d() {
   return f;
 }
 
-ListResults<GradientSums<3>> gradients_3d(const Fields3& f, const Lists& l) {
-  return sum_each_list(l, GradientSums<3>{}, [&](GradientSums<3>* sums, std::uint32_t i, const auto& js, const auto& F,
-                                                 GradientSums<3>& own) {
+ListResults<GradientMoments<3>, GradientSums<3>> gradients_3d(const Fields3& f, const Lists& l) {
+  return sum_each_list<GradientSums<3>>(l, GradientMoments<3>{}, [&](GradientMoments<3>* sums, std::uint32_t i, const auto& js,
+                                                                     const auto& F, GradientSums<3>& own) {
     add_gradient_list({f.pos.data(), f.vel.data(), f.volume.data(), sums, kWritable}, i, js, F, own);
   });
 }

@@ -293,6 +293,14 @@ ListSums<GradientSums<2>> gradient_by_pair_terms(bool mixed) {
   return s;
 }
 
+// What a list loop writes: its owner's sums, and the writable partners' as an evaluation keeps
+// them (GradientSumsArray: V and M, the Shepard sums apart).
+struct WrittenSums {
+  GradientSums<2> own{};
+  std::vector<GradientMoments<2>> stored = std::vector<GradientMoments<2>>(kWritable);
+  std::vector<ShepardSums<2>> shepard = std::vector<ShepardSums<2>>(kWritable);
+};
+
 void expect_shepard(const ShepardSums<2>& got, const ShepardSums<2>& want, const std::string& what) {
   EXPECT_EQ(got.w, want.w) << what << " w";
   expect_vec(got.g, want.g, what + " g");
@@ -310,7 +318,7 @@ TEST(PairTerms, GradientListSumsArePairTermSums) {
   expect_mat(want.own.V, mat(-3.5, -2.5, -2.5, -1.5), "V_0 by hand");
   expect_mat(want.own.M, mat(9, 5, 5, 4), "M_0 by hand");
   for (const bool scalar : {true, false}) {
-    ListSums<GradientSums<2>> got;
+    WrittenSums got;
     const GradientListData<2> d{f.pos.data(), f.vel.data(), f.volume.data(), got.stored.data(), kWritable};
     if (scalar) add_gradient_list_scalar(d, kOwner, kPartners, kFactors, got.own);
     else add_gradient_list(d, kOwner, kPartners, kFactors, got.own);  // the vector path where the CPU has one
@@ -329,14 +337,18 @@ TEST(PairTerms, MixedGradientListSumsArePairTermSums) {
   const Fields f = fields();
   const ListSums<GradientSums<2>> want = gradient_by_pair_terms(true);
   EXPECT_GT(want.own.shepard.w, 0.0);
-  ListSums<GradientSums<2>> got;
+  WrittenSums got;
   const GradientListData<2> d{f.pos.data(), f.vel.data(), f.volume.data(), got.stored.data(), kWritable,
-                              f.scales.data(), KernelType::Cubic};
+                              f.scales.data(), KernelType::Cubic, got.shepard.data()};
   add_gradient_list(d, kOwner, kPartners, kFactors, got.own);
   expect_mat(got.own.V, want.own.V, "V_0");
   expect_mat(got.own.M, want.own.M, "M_0");
   expect_shepard(got.own.shepard, want.own.shepard, "0");
-  for (std::size_t j = 1; j < kWritable; ++j) expect_shepard(got.stored[j].shepard, want.stored[j].shepard, std::to_string(j));
+  for (std::size_t j = 1; j < kWritable; ++j) {
+    expect_mat(got.stored[j].V, want.stored[j].V, "V_" + std::to_string(j));
+    expect_mat(got.stored[j].M, want.stored[j].M, "M_" + std::to_string(j));
+    expect_shepard(got.shepard[j], want.stored[j].shepard, std::to_string(j));
+  }
 }
 
 namespace {
