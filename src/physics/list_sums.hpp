@@ -26,14 +26,17 @@
 
 namespace sphdisk {
 
-// The writable particles' sums of an evaluation: zeroed in parallel by zero_sums (viscous_stress.hpp),
-// so a new buffer is not zero-filled first (core/overwrite_vector.hpp).
-// V and M for every writable particle; the mixed correction's Shepard sums, which only it reads,
-// in an array of their own that is empty otherwise (56 of 120 bytes per particle in 2D).
+// A particle's eq. 8 sum V and moment matrix M as an evaluation keeps them (GradientSums without
+// the Shepard sums).
 template <int D>
 struct GradientMoments {
   Mat<D> V, M;
 };
+
+// The writable particles' sums of an evaluation: zeroed in parallel by zero_sums (viscous_stress.hpp),
+// so a new buffer is not zero-filled first (core/overwrite_vector.hpp). V and M for each; the mixed
+// correction's Shepard sums, which only it reads, in an array of their own that is empty otherwise
+// (56 of 120 bytes per particle in 2D).
 template <int D>
 struct GradientSumsArray {
   UnsetVector<GradientMoments<D>> moments;
