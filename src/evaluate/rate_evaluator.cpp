@@ -46,7 +46,7 @@ template <int D>
 void RateEvaluator<D>::release_rebuilt_memory() {
   kept_ = {};
   release_memory(grid_, candidates_, search_radius_, slopes_, pairs_lists_,
-                 writable_filter_, factors_, gradient_sums_.moments, gradient_sums_.shepard, heating_scratch_, force_scratch_.inv_rho,
+                 writable_filter_, factors_, gradient_sums_, heating_scratch_, force_scratch_.inv_rho,
                  force_scratch_.p_over_rho2, force_scratch_.log_rho, force_scratch_.rho_without_self, force_scratch_.scales,
                  solve_sums_, involved_, members_, predicted_h_);
 }
@@ -116,14 +116,14 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
     if (!domain_ && !corrected_heating) {
       ScopedPhase t(timers_, "gradient_and_forces");
       compute_stress_and_accelerations(p, pairs, phys_, gradient_sums_, force_scratch_, gravity_);
-      if (lean()) release_memory(gradient_sums_.moments, gradient_sums_.shepard);
+      if (lean()) release_memory(gradient_sums_);
       return;
     }
   }
   {
     ScopedPhase t(timers_, "velocity_gradient");
     compute_viscous_stress(p, pairs, phys_, gradient_sums_, force_scratch_.scales);
-    if (lean()) release_memory(gradient_sums_.moments, gradient_sums_.shepard);
+    if (lean()) release_memory(gradient_sums_);
   }
   refresh_ghosts(p, GhostStage::Stress);
   if (corrected_heating) {

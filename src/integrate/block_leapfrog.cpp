@@ -309,7 +309,8 @@ class BlockLeapfrog final : public Integrator<D> {
     const PhysicsParams& phys = rates_.physics();
     const double limit = explicit_viscous_limit(phys);
     const auto tau = [&](std::size_t i) { return static_cast<double>(length_of(p, i)) * tick; };
-    // (from the h just solved for, which the later evaluations keep: RateEvaluator::evaluate_again)
+    // (from the h just solved for, which the later evaluations keep: RateEvaluator::evaluate_again;
+    // recomputed where asked for, not stored, as the stages keep positions, h and step lengths)
     const auto plan_at = [&](std::size_t i) {
       const double nu = largest_viscosity_at(phys, p.pos[i]);
       return super_step_plan(nu > 0 ? tau(i) * nu / (limit * p.h[i] * p.h[i]) : 0.0);
@@ -330,8 +331,6 @@ class BlockLeapfrog final : public Integrator<D> {
         return static_cast<std::size_t>(most - plan_at(i).evaluations);
       });
     }
-    // (Recomputed where asked for, not stored: the stages keep positions, h and step lengths.)
-    const auto plan_of = plan_at;
     // (The first stage learns how the sort above renumbered the particles.)
     const auto rate = [&](std::size_t m) {
       rates_.evaluate_again(p, m, moved ? std::span<const std::uint32_t>(order_) : std::span<const std::uint32_t>());
@@ -341,9 +340,9 @@ class BlockLeapfrog final : public Integrator<D> {
     velocities_.bind(p.vel, p.acc, p.v_kick, active);  // (vel was set to v_kick above: Y_0)
     if (energy) {
       energies_.bind(p.u, p.du_dt, p.u_kick, active);
-      super_step(active, most, plan_of, tau, rate, each, velocities_, energies_);
+      super_step(active, most, plan_at, tau, rate, each, velocities_, energies_);
     } else {
-      super_step(active, most, plan_of, tau, rate, each, velocities_);
+      super_step(active, most, plan_at, tau, rate, each, velocities_);
     }
     ScopedPhase timer(rates_.timers(), "integration");
     par::for_each(active, [&](std::size_t i) {
