@@ -74,6 +74,13 @@ void accumulate(GradientSums<D>& into, const GradientSums<D>& x) {
   accumulate(into.shepard, x.shepard);
 }
 
+// The V and M of a term, added to the sums an evaluation keeps (GradientSumsArray).
+template <int D>
+void accumulate(GradientMoments<D>& into, const GradientSums<D>& x) {
+  accumulate(into.V, x.V);
+  accumulate(into.M, x.M);
+}
+
 // The pair's kernel values (pair_factors.hpp) from the particles' kernel scales.
 [[gnu::always_inline]] inline PairValues pair_kernel_values(KernelType kernel, const KernelScale& si, const KernelScale& sj,
                                                             double r) {
@@ -113,10 +120,10 @@ template <int D>
       ti.shepard = shepard_term(W, d.volume[j], g, dv, dx);
       tj.shepard = shepard_term(W, Vi, -g, -dv, -dx);
       accumulate(sum_i, ti);
-      if (j < d.writable) accumulate(d.sums[j].V, tj.V), accumulate(d.sums[j].M, tj.M), accumulate(d.shepard[j], tj.shepard);
+      if (j < d.writable) accumulate(d.sums[j], tj), accumulate(d.shepard[j], tj.shepard);
     } else {  // (the Shepard sums stay zero: only V and M)
       accumulate(sum_i.V, ti.V), accumulate(sum_i.M, ti.M);
-      if (j < d.writable) accumulate(d.sums[j].V, tj.V), accumulate(d.sums[j].M, tj.M);
+      if (j < d.writable) accumulate(d.sums[j], tj);
     }
   }
 }

@@ -59,8 +59,7 @@ auto sum_lists_into(GradientSumsArray<D>& sums, std::size_t m, AddList add_list)
     GradientSums<D> sum_i{};
     add_list(i, js, std::span<const float>(F), sum_i);
     if (i >= m) return;
-    accumulate(sums.moments[i].V, sum_i.V);
-    accumulate(sums.moments[i].M, sum_i.M);
+    accumulate(sums.moments[i], sum_i);
     if (!sums.shepard.empty()) accumulate(sums.shepard[i], sum_i.shepard);
   };
 }
