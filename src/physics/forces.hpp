@@ -40,7 +40,8 @@ Vec<D> point_mass_gravity(const Vec<D>& x, double gm) {
 
 // Per-particle factors of the pair terms, for every particle the pairs read (ghosts included).
 struct ForceScratch {
-  OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho; P / rho^2 (empty without pressure)
+  OverwriteVector<double> inv_rho, p_over_rho2;  // 1 / rho (empty where only the consistent divergence reads
+                                                 // the density); P / rho^2 (empty without pressure)
   OverwriteVector<double> log_rho;               // ln rho (empty without the consistent divergence)
   OverwriteVector<double> rho_without_self;      // rho - m W(0, h) (empty but with PairDensity::Others)
   OverwriteVector<KernelScale> scales;           // kernel scales (empty but where pairs need W_ij)
@@ -57,11 +58,13 @@ template <int D>
 ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsParams& phys, ForceScratch& scratch,
                                 bool with_gravity) {
   const bool with_pressure = phys.eos != EquationOfState::None;
+  const bool consistent = phys.viscous_force == ViscousForce::Consistent;
+  // The consistent divergence reads the volumes m / rho the density stage set (p.volume), not 1 / rho.
+  const bool reads_inv_rho = !consistent || with_pressure;
   auto& inv_rho = scratch.inv_rho;
   auto& Pr = scratch.p_over_rho2;
-  renew_snug(inv_rho, p.size());
+  renew_snug(inv_rho, reads_inv_rho ? p.size() : 0);
   renew_snug(Pr, with_pressure ? p.size() : 0);  // (read only with pressure, list_sums.hpp)
-  const bool consistent = phys.viscous_force == ViscousForce::Consistent;
   auto& log_rho = scratch.log_rho;
   renew_snug(log_rho, consistent ? p.size() : 0);
   const bool others = consistent && phys.pair_density == PairDensity::Others;
@@ -72,7 +75,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   const bool av = with_pressure && phys.artificial_viscosity();
   renew_snug(scratch.sound_speed, av ? p.size() : 0);
   par::for_each(p.size(), [&](std::size_t i) {
-    inv_rho[i] = 1.0 / p.rho[i];
+    if (reads_inv_rho) inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
     const double u = p.u.empty() ? 0.0 : p.u[i];
@@ -84,12 +87,13 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
     if (i < m) p.acc[i] = with_gravity ? point_mass_gravity(p.pos[i], phys.gm) : Vec<D>{};
   }, "forces");
   return ForceListData<D>{p.pos.data(), p.vel.data(), p.stress.data(), p.correction.data(), p.mass.data(),
-                          inv_rho.data(), Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
+                          reads_inv_rho ? inv_rho.data() : nullptr, Pr.data(), p.acc.data(), p.du_dt.empty() ? nullptr : p.du_dt.data(), m, with_pressure,
                           phys.force_correction, consistent ? log_rho.data() : nullptr, consistent,
                           others ? rho_without_self.data() : nullptr,
                           phys.keeps_correction_shift() ? p.correction_shift.data() : nullptr, scales, phys.kernel,
                           av ? scratch.sound_speed.data() : nullptr, av && phys.av_limiter ? p.av_limiter.data() : nullptr,
-                          av ? p.av_alpha.data() : nullptr, phys.av_beta, av ? p.signal_speed.data() : nullptr};
+                          av ? p.av_alpha.data() : nullptr, phys.av_beta, av ? p.signal_speed.data() : nullptr,
+                          consistent ? p.volume.data() : nullptr};
 }
 
 // The list loop's body: f(i, js, F) of Pairs::for_each_list.

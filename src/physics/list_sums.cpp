@@ -245,7 +245,7 @@ template <bool Subtract>
   __m512d Si[4], Ci[4];
   for (std::size_t c = 0; c < 4; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]), Ci[c] = _mm512_set1_pd(d.correction[i].c[c]);
   const __m512d log_rho_i = _mm512_set1_pd(d.log_rho[i]);
-  const __m512d Vi = _mm512_set1_pd(d.mass[i] * d.inv_rho[i]);
+  const __m512d Vi = _mm512_set1_pd(d.volume[i]);
   __m128d sum = _mm_loadu_pd(ai.c.data());
   alignas(64) double to_i[16], to_j[16];
   for (std::size_t q = 0; q < n; q += 8) {
@@ -257,7 +257,7 @@ template <bool Subtract>
     const __m512d gx = _mm512_mul_pd(_mm512_sub_pd(xi, xj), r.f);
     const __m512d gy = _mm512_mul_pd(_mm512_sub_pd(yi, yj), r.f);
     const __m512d dl = _mm512_sub_pd(avx512::load_singles(d.log_rho, r.j), log_rho_i);
-    const __m512d Vj = _mm512_mul_pd(avx512::load_singles(d.mass, r.j), avx512::load_singles(d.inv_rho, r.j));
+    const __m512d Vj = avx512::load_singles(d.volume, r.j);
     // G_i = C_i g, G_j = C_j g (contract: the first product, then the second added)
     const __m512d Gix = _mm512_add_pd(_mm512_mul_pd(Ci[0], gx), _mm512_mul_pd(Ci[1], gy));
     const __m512d Giy = _mm512_add_pd(_mm512_mul_pd(Ci[2], gx), _mm512_mul_pd(Ci[3], gy));

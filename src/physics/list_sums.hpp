@@ -129,8 +129,9 @@ template <int D>
 }
 
 // What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.
-// p_over_rho2: P / rho^2 (read only with pressure); correction: read only with force_correction or
-// the consistent divergence; log_rho: ln rho (read only with the consistent divergence);
+// inv_rho: 1 / rho (read by the conservative divergence and with pressure); p_over_rho2: P / rho^2
+// (read only with pressure); correction: read only with force_correction or the consistent
+// divergence; log_rho: ln rho and volume: m / rho (read only with the consistent divergence);
 // du_dt: null where the particles hold no energy rate (no energy equation: the pressure work is
 // not kept).
 template <int D>
@@ -164,6 +165,7 @@ struct ForceListData {
   const double* av_alpha = nullptr;
   double av_beta = 0.0;
   double* signal_speed = nullptr;
+  const double* volume = nullptr;
 };
 
 // ln(rho_j / rho_i) of the densities without the pair's own terms (PairDensity::Others):
@@ -186,7 +188,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
                       std::span<const float> F, Vec<D>& ai, double& du_i) {
   const Vec<D> xi = d.pos[i], vi = d.vel[i];
   const Mat<D> Si = as_double(d.stress[i]);
-  const double mi = d.mass[i], inv_rho_i = d.inv_rho[i];
+  const double mi = d.mass[i], inv_rho_i = d.inv_rho ? d.inv_rho[i] : 0.0;
   const double Pr_i = Pressure ? d.p_over_rho2[i] : 0.0;
   Mat<D> Ci;
   double log_rho_i = 0.0, signal_i = 0.0;
@@ -208,7 +210,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       const PairTerms<Vec<D>> G = d.correction_shift ? mixed_corrected_gradients(Ci, Cj, d.correction_shift[i],
                                                                                  d.correction_shift[j], pair_average_value(w), g)
                                                      : linear_corrected_gradients(Ci, Cj, g);
-      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, G, dl, mi * inv_rho_i, mj * d.inv_rho[j]);
+      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, G, dl, d.volume[i], d.volume[j]);
       ai += a.to_i;
       if (j < d.writable) d.acc[j] += a.to_j;
     } else {

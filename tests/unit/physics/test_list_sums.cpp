@@ -381,6 +381,7 @@ TEST(ListSums, ConsistentForcePathsAgree) {
                          nullptr, acc, nullptr, kWritable, false, false};
       d.log_rho = log_rho.data();
       d.consistent = true;
+      d.volume = f.volume.data();
       double du = 0.0;
       add_force_list(d, i, js, F, own, du);
     });
@@ -391,7 +392,7 @@ TEST(ListSums, ConsistentForcePathsAgree) {
   const Vec<2> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
   const Mat<2> Si = as_double(f.stress[i]), Sj = as_double(f.stress[j]);
   const Vec<2> expected = consistent_viscous_pair(Si, Sj, linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
-                                                  log_rho[j] - log_rho[i], f.mass[i] * f.inv_rho[i], f.mass[j] * f.inv_rho[j])
+                                                  log_rho[j] - log_rho[i], f.volume[i], f.volume[j])
                               .to_i;
   EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
 }

@@ -424,6 +424,7 @@ ForceSums forces_by_list(Force form, bool scalar) {
                      f.mass.data(),    f.inv_rho.data(), f.Pr.data(),  acc.data(),
                      du.data(),        kWritable,     pressure,        form == Force::CorrectedPressure,
                      f.log_rho.data(), consistent};
+  if (consistent) d.volume = f.volume.data();
   if (form == Force::ConsistentMixed) d.correction_shift = f.correction_shift.data(), d.scales = f.scales.data();
   if (scalar) add_force_list_scalar(d, kOwner, kPartners, kFactors, s.acc.own, s.du.own);
   else add_force_list(d, kOwner, kPartners, kFactors, s.acc.own, s.du.own);

@@ -394,7 +394,7 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
     const std::size_t n = 70;  // particle 0 and its partners, all within the support 2h
     std::vector<Vec<2>> pos(n), vel(n), acc(n);
     std::vector<Mat<2, ReducedReal>> stress(n), correction(n);
-    std::vector<double> mass(n), inv_rho(n), log_rho(n);
+    std::vector<double> mass(n), inv_rho(n), log_rho(n), volume(n);
     for (std::size_t j = 0; j < n; ++j) {
       do pos[j] = j == 0 ? Vec<2>{{0.3, -0.2}} : Vec<2>{{0.3 + 2 * h * u(g), -0.2 + 2 * h * u(g)}};
       while (j > 0 && norm(pos[j] - pos[0]) > 1.9 * h);
@@ -402,6 +402,7 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
       mass[j] = 1.0 + 0.5 * u(g);
       log_rho[j] = 0.8 + dot(k, pos[j]);
       inv_rho[j] = std::exp(-log_rho[j]);
+      volume[j] = mass[j] * inv_rho[j];
       store(stress[j], linear_stress ? stress_at(pos[j]) : S0);
       correction[j] = {};
     }
@@ -414,15 +415,16 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
       F.push_back(static_cast<float>(kern.dW_over_r(norm(pos[0] - pos[j]))));
       const Vec<2> dx = pos[0] - pos[j];
       for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b) M(a, b) -= mass[j] * inv_rho[j] * static_cast<double>(F.back()) * dx[a] * dx[b];
+        for (int b = 0; b < 2; ++b) M(a, b) -= volume[j] * static_cast<double>(F.back()) * dx[a] * dx[b];
     }
     Mat<2> C;
     ASSERT_TRUE(invert_if_well_conditioned(M, C));
     store(correction[0], C);
     for (std::size_t j = 1; j < n; ++j) store(correction[j], Mat<2>{{1.0 + 0.1 * u(g), 0.2 * u(g), 0.0, 1.0}});
     for (std::size_t j = 1; j < n; ++j) correction[j].c[2] = correction[j].c[1];  // symmetric
-    const ForceListData<2> d{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
-                             nullptr, acc.data(), nullptr, n, false, false, log_rho.data(), true};
+    ForceListData<2> d{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
+                       nullptr, acc.data(), nullptr, n, false, false, log_rho.data(), true};
+    d.volume = volume.data();
     Vec<2> a0;
     double du = 0;
     add_force_list(d, 0, js, F, a0, du);
@@ -437,8 +439,9 @@ TEST(ViscousForce, ConsistentFormIsExactForLinearStressAndLogDensityOnAnyParticl
     for (std::size_t q = 0; q < js.size(); ++q) {
       const std::uint32_t j = js[q], zero = 0;
       std::vector<Vec<2>> acc_j(n);
-      const ForceListData<2> dj{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
-                                nullptr, acc_j.data(), nullptr, 0, false, false, log_rho.data(), true};
+      ForceListData<2> dj{pos.data(), vel.data(), stress.data(), correction.data(), mass.data(), inv_rho.data(),
+                          nullptr, acc_j.data(), nullptr, 0, false, false, log_rho.data(), true};
+      dj.volume = volume.data();
       Vec<2> aj;
       add_force_list(dj, j, std::span<const std::uint32_t>(&zero, 1), std::span<const float>(&F[q], 1), aj, du);
       ASSERT_LT(norm(acc[j] - aj), 1e-12 * (norm(aj) + 1e-300)) << "partner " << j;
