@@ -65,7 +65,8 @@ Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Pa
   ip.max_stages = cfg.max_stages;
   integrator_ = make_integrator<D>(ip, rates_);
   p_.set_absent_fields(unused_fields(integrator_->keeps_step_state(), cfg.evolve_energy, setup_.phys.keeps_correction(),
-                                       setup_.phys.keeps_correction_shift(), setup_.phys.artificial_viscosity()));
+                                       setup_.phys.keeps_correction_shift(), setup_.phys.artificial_viscosity(),
+                                       setup_.phys.keeps_scatter_density()));
   integrator_->on_substep([this](double done, double length) { between_substeps(done, length); });
   if (s_.step > 0 || s_.step_state) last_checkpoint_step_ = s_.step;  // resumed from it
   t_out_ = output_times(cfg, setup_);

@@ -52,7 +52,7 @@ struct Config {
     if (viscous_force != "auto") return viscous_force;
     return smoothing == "constant" || dimension == 3 ? "conservative" : "consistent";
   }
-  std::string pair_density = "summation";    // summation | others (physics/physics_params.hpp, PairDensity)
+  std::string pair_density = "summation";    // summation | others | scatter (physics/physics_params.hpp, PairDensity)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   std::string pair_lists = "rescan";  // rescan | stored (rate_evaluator.hpp, PairStorage)

@@ -42,6 +42,8 @@ enum FieldFlag : unsigned {
   kHaloStress = 1u << 11,
   kArtificialViscosityOnly = 1u << 12,  // read and written only with the artificial viscosity
                                         // (PhysicsParams::av_alpha > 0)
+  kScatterDensityOnly = 1u << 13,  // read and written only where the consistent viscous force compares
+                                   // scatter densities (PhysicsParams::keeps_scatter_density)
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -78,11 +80,14 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(v_kick, Vector, "KickedVelocity",    kStepState,                            1,  0, -1)     \
   X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)   \
   X(av_alpha, Scalar, "ViscosityAlpha",  kSnapshot | kCheckpoint | kArtificialViscosityOnly | kHaloStress, 0, 0, 0) \
-  X(compression, Scalar, "Compression",  kArtificialViscosityOnly,              0,  0, -1)
+  X(compression, Scalar, "Compression",  kArtificialViscosityOnly,              0,  0, -1)     \
+  X(scatter_density, Scalar, "ScatterDensity", kRateState | kScatterDensityOnly | kHaloDensity, -2, 1, 0)
 // clang-format on
 // av_alpha, compression: the artificial viscosity's alpha of each particle, and the rate max(-div v, 0)
 // of the last evaluation that drives its time-dependent switch (physics/viscosity_switch.hpp); last,
 // so that the checkpoints' checksums of the fields before them keep their field indices.
+// scatter_density: sum_j m_j W(r_ij, h_j), self term included (physics/scatter_density.hpp); after
+// compression for the same reason.
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
 // resumed run starts its solves where the uninterrupted one would.
@@ -98,12 +103,13 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 // integrator's state inside a step without block timesteps, the energy equation's fields without
 // one, the moment correction where no force reads it (PhysicsParams::keeps_correction), its shift
 // where no force reads that (keeps_correction_shift), the artificial viscosity's limiter and signal
-// speeds without it.
+// speeds without it, the scatter density where no force reads it.
 constexpr unsigned unused_fields(bool step_state, bool energy, bool moment_correction, bool correction_shift,
-                                 bool artificial_viscosity) {
+                                 bool artificial_viscosity, bool scatter_density) {
   return (step_state ? 0u : unsigned{kStepState}) | (energy ? 0u : unsigned{kEnergyOnly | kEnergyStepState}) |
          (moment_correction ? 0u : unsigned{kForceCorrectionOnly}) | (correction_shift ? 0u : unsigned{kMixedCorrectionOnly}) |
-         (artificial_viscosity ? 0u : unsigned{kArtificialViscosityOnly});
+         (artificial_viscosity ? 0u : unsigned{kArtificialViscosityOnly}) |
+         (scatter_density ? 0u : unsigned{kScatterDensityOnly});
 }
 
 template <int D>
@@ -226,7 +232,7 @@ struct Particles {
 
   // Density is per area in 2D, per volume in 3D.
   static constexpr int field_length_exp(int l, FieldKind, std::string_view ds) {
-    return ds == std::string_view("Density") ? -D : l;
+    return ds == std::string_view("Density") || ds == std::string_view("ScatterDensity") ? -D : l;
   }
 };
 

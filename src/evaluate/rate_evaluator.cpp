@@ -17,6 +17,7 @@
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/list_factors.hpp"
+#include "physics/scatter_density.hpp"
 #include "physics/smoothing_length.hpp"
 #include "physics/viscous_rates.hpp"
 #include "physics/viscous_stress.hpp"
@@ -105,6 +106,10 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   {
     ScopedPhase t(timers_, "density");
     density(pairs);
+    if (phys_.keeps_scatter_density()) {
+      compute_scatter_density(p, pairs, phys_, scatter_scratch_);
+      if (lean()) release_memory(scatter_scratch_.scales, scatter_scratch_.sums);
+    }
   }
   refresh_ghosts(p, GhostStage::Density);
   // The force correction's heating loop runs between the gradient and force loops, where the
@@ -247,7 +252,8 @@ std::vector<std::pair<std::string, std::size_t>> RateEvaluator<D>::memory() cons
   for (const auto* v : {&search_radius_, &need_, &reach_, &h_start_, &halo_short_}) scratch += v->capacity() * sizeof(double);
   scratch += gradient_sums_.bytes() + heating_scratch_.capacity() * sizeof(Mat<D>) +
              (force_scratch_.inv_rho.capacity() + force_scratch_.p_over_rho2.capacity() + force_scratch_.log_rho.capacity() +
-              force_scratch_.rho_without_self.capacity() + 2 * force_scratch_.scales.capacity()) *
+              force_scratch_.rho_without_self.capacity() + 2 * force_scratch_.scales.capacity() +
+              scatter_scratch_.sums.capacity() + 2 * scatter_scratch_.scales.capacity()) *
                  sizeof(double);
   scratch += writable_filter_.bytes();
   scratch += predicted_h_.capacity() * sizeof(double);

@@ -26,6 +26,7 @@
 #include "physics/pair_factors.hpp"
 #include "physics/forces.hpp"
 #include "physics/physics_params.hpp"
+#include "physics/scatter_density.hpp"
 #include "physics/viscous_stress.hpp"
 
 namespace sphdisk {
@@ -196,6 +197,7 @@ class RateEvaluator final : public RateSource<D> {
   GradientSumsArray<D> gradient_sums_;
   std::vector<Mat<D>> heating_scratch_;
   ForceScratch force_scratch_;
+  ScatterDensityScratch scatter_scratch_;
   bool gravity_ = true;
   std::size_t evaluations_ = 0;
   std::size_t pairs_ = 0;

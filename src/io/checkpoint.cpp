@@ -37,7 +37,9 @@ namespace {
 // Format 9 (2026-12-05): each particle's artificial-viscosity alpha (av_alpha, kCheckpoint, absent
 // where unused), which a format-8 file with the artificial viscosity lacks: its run had one alpha
 // for all (resumed without the switch, app/simulation.cpp), set anew on resume (app/runner.cpp).
-constexpr long long kFormatVersion = 9;
+// Format 10 (2026-12-05): the scatter density (scatter_density, a kRateState field absent where
+// unused: kScatterDensityOnly), which earlier files never hold: their runs compared summed densities.
+constexpr long long kFormatVersion = 10;
 constexpr long long kOldestFormatRead = 2;
 
 // The format that added a checkpoint field to files that could have held it before (0: none).
@@ -227,7 +229,8 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.
   const unsigned may_be_absent =
       kStepState | kEnergyStepState | (out.version >= 6 ? unsigned{kEnergyOnly | kForceCorrectionOnly} : 0u) |
-      (out.version >= 7 ? unsigned{kMixedCorrectionOnly} : 0u) | (out.version >= 8 ? unsigned{kArtificialViscosityOnly} : 0u);
+      (out.version >= 7 ? unsigned{kMixedCorrectionOnly} : 0u) | (out.version >= 8 ? unsigned{kArtificialViscosityOnly} : 0u) |
+      (out.version >= 10 ? unsigned{kScatterDensityOnly} : 0u);
   const double absent = out.version >= 5 ? num("AbsentFields") : 0.0;
   if (!(absent >= 0 && absent <= may_be_absent && absent == std::floor(absent)) ||
       (static_cast<unsigned>(absent) & ~may_be_absent) != 0)
@@ -241,9 +244,10 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
   const std::size_t rows_read = h5::read_dataset_u64(parts, "id", path, n, read).size();  // size-checked by the reader
   if (static_cast<double>(n) != n_attr) throw UserError("'" + path + "': checkpoint particle count does not match its datasets");
   Particles<D>& p = out.particles;
-  // Files before format 7 never hold the mixed correction's shift.
+  // Files before format 7 never hold the mixed correction's shift (before 10 the scatter density).
   p.set_absent_fields(static_cast<unsigned>(absent) | (out.version < 7 ? unsigned{kMixedCorrectionOnly} : 0u) |
-                      (out.version < 8 ? unsigned{kArtificialViscosityOnly} : 0u));
+                      (out.version < 8 ? unsigned{kArtificialViscosityOnly} : 0u) |
+                      (out.version < 10 ? unsigned{kScatterDensityOnly} : 0u));
   p.resize(rows_read);
   for_each_checkpoint_field(p, s, [&](const FieldInfo& info, auto& field, std::size_t f) {
     using T = typename std::decay_t<decltype(field)>::value_type;

@@ -14,7 +14,8 @@
 // The conservative form's pair terms are antisymmetric in i <-> j, so linear momentum is conserved
 // to round-off (the consistent form's to the discretisation error). Angular momentum is not
 // exactly conserved (the viscous pair force is not along r_ij; docs/physics.md sec. 2).
-// Reads: pos, vel, mass, rho, volume, stress, pair factors, du_dt (heating from viscous_stress.hpp).
+// Reads: pos, vel, mass, rho (or the scatter density: PairDensity::Scatter), volume, stress, pair
+// factors, du_dt (heating from viscous_stress.hpp).
 // Writes: acc, du_dt (the pressure work, where the particles hold it: with an energy equation).
 #include <cmath>
 #include <vector>
@@ -68,6 +69,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   auto& log_rho = scratch.log_rho;
   renew_snug(log_rho, consistent ? p.size() : 0);
   const bool others = consistent && phys.pair_density == PairDensity::Others;
+  const bool scatter = phys.keeps_scatter_density();  // ln rho_s (scatter_density.hpp)
   auto& rho_without_self = scratch.rho_without_self;
   renew_snug(rho_without_self, others ? p.size() : 0);
   const KernelScale* scales = fill_kernel_scales(p, phys, scratch.scales, "forces");
@@ -76,7 +78,7 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   renew_snug(scratch.sound_speed, av ? p.size() : 0);
   par::for_each(p.size(), [&](std::size_t i) {
     if (reads_inv_rho) inv_rho[i] = 1.0 / p.rho[i];
-    if (consistent) log_rho[i] = std::log(static_cast<double>(p.rho[i]));
+    if (consistent) log_rho[i] = std::log(scatter ? p.scatter_density[i] : static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
     const double u = p.u.empty() ? 0.0 : p.u[i];
     if (with_pressure) Pr[i] = pressure(phys, static_cast<double>(p.rho[i]), p.pos[i], u) * inv_rho[i] * inv_rho[i];

@@ -54,6 +54,8 @@ struct GradientSumsArray {
 };
 
 // Adds a pair term to a sum, component by component.
+inline void accumulate(double& into, double x) { into += x; }
+
 template <int D>
 void accumulate(Mat<D>& into, const Mat<D>& x) {
   for (std::size_t c = 0; c < into.c.size(); ++c) into.c[c] += x.c[c];

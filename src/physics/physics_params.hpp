@@ -38,7 +38,12 @@ enum class ViscousForce { Conservative, Consistent };
 //              and with it S . grad ln rho, comes out too small by a fraction that does not shrink
 //              with N (docs/validation.md, "The density a pair compares").
 //   Summation: the summed densities as they are.
-enum class PairDensity { Others, Summation };
+//   Scatter:   each particle's density from its neighbours' kernels, rho_s,i = sum_j m_j W(r_ij, h_j)
+//              (physics/scatter_density.hpp): the gather sum's bias (kappa/2) h_i^2 lap rho grows
+//              without bound in a profile's sparse wings, where h^2 ~ 1/rho; the scatter sum's,
+//              (kappa/2) lap(h^2 rho), vanishes in 2D at a fixed neighbour number
+//              (docs/validation.md, "A density without the gather bias: the scatter sum").
+enum class PairDensity { Others, Summation, Scatter };
 
 // The kernel gradient of the velocity gradient (eq. 8) and of the consistent divergence
 // (viscous_stress.hpp, pair_terms.hpp), with V_k = m_k / rho_k and g_ik = grad_i W_ik:
@@ -85,6 +90,11 @@ struct PhysicsParams {
     return viscous_force == ViscousForce::Consistent && gradient_correction == GradientCorrection::Mixed;
   }
   bool artificial_viscosity() const { return av_alpha > 0 && eos != EquationOfState::None; }
+  // Whether the particles hold the scatter density (core/particles.hpp, scatter_density): the
+  // consistent divergence reads its ln rho (PairDensity::Scatter).
+  bool keeps_scatter_density() const {
+    return viscous_force == ViscousForce::Consistent && pair_density == PairDensity::Scatter;
+  }
   // Whether a pair's kernel value W_ij enters the pair sums (the mixed correction, the others' densities).
   bool needs_kernel_values() const {
     return gradient_correction == GradientCorrection::Mixed ||
@@ -100,7 +110,8 @@ inline constexpr NamedChoice<EquationOfState> kEosNames[] = {{"none", EquationOf
 inline constexpr NamedChoice<ViscousForce> kViscousForceNames[] = {{"consistent", ViscousForce::Consistent},
                                                                    {"conservative", ViscousForce::Conservative}};
 inline constexpr NamedChoice<PairDensity> kPairDensityNames[] = {{"summation", PairDensity::Summation},
-                                                                 {"others", PairDensity::Others}};
+                                                                 {"others", PairDensity::Others},
+                                                                 {"scatter", PairDensity::Scatter}};
 inline constexpr NamedChoice<GradientCorrection> kGradientCorrectionNames[] = {
     {"linear", GradientCorrection::Linear}, {"mixed", GradientCorrection::Mixed}, {"none", GradientCorrection::None}};
 

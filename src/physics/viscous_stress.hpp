@@ -65,11 +65,11 @@ auto sum_lists_into(GradientSumsArray<D>& sums, std::size_t m, AddList add_list)
 }
 
 template <class Pairs, class T, class A, class AddList>
-void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list) {
+void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list, const char* phase = "velocity_gradient",
+                    FactorUse use = FactorUse::Read) {
   const std::size_t m = pairs.writable();
   zero_sums(m, sums);
-  pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), FactorUse::Read, "velocity_gradient",
-                      FarPairs::First);
+  pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), use, phase, FarPairs::First);
 }
 
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums

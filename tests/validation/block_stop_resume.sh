@@ -194,18 +194,25 @@ else
 fi
 args=("${default_args[@]}")
 
-# With the mixed gradient correction (its per-particle shift is checkpointed with the rate state):
-# one signal inside a cycle, resumed on 3 threads, gives the particles of an uninterrupted run.
-mixed=("${args[@]}" --set 'sph.gradient_correction="mixed"')
-OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/mixed_ref" "${mixed[@]}" > /dev/null ||
-  bad "mixed correction: the uninterrupted run failed"
-args=("${mixed[@]}")
-stopped_run mixed --set run.inject_interrupt_at_substep=40
-if [ $rc -eq 75 ] && inside_cycle "$dir" && resume "$dir" 3 && same_particles_as_reference "$dir" "$work/mixed_ref"; then
-  ok "mixed correction: one signal inside a cycle, resumed on 3 threads: the uninterrupted run's particles"
-else
-  bad "mixed correction: one signal inside a cycle (rc=$rc, checkpoint of step $step): resume"
-fi
+# With the mixed gradient correction (its per-particle shift is checkpointed with the rate state) and
+# with the scatter density (checkpointed with it too: the first partial evaluation after a resume
+# reads the inactive particles' values): one signal inside a cycle, resumed on 3 threads, gives the
+# particles of an uninterrupted run.
+while IFS='|' read -r name label setting <&3; do
+  variant=("${default_args[@]}" --set "$setting")
+  OMP_NUM_THREADS=2 "$sphdisk" run "$config" -q -o "$work/${name}_ref" "${variant[@]}" > /dev/null ||
+    bad "$label: the uninterrupted run failed"
+  args=("${variant[@]}")
+  stopped_run "$name" --set run.inject_interrupt_at_substep=40
+  if [ $rc -eq 75 ] && inside_cycle "$dir" && resume "$dir" 3 && same_particles_as_reference "$dir" "$work/${name}_ref"; then
+    ok "$label: one signal inside a cycle, resumed on 3 threads: the uninterrupted run's particles"
+  else
+    bad "$label: one signal inside a cycle (rc=$rc, checkpoint of step $step): resume"
+  fi
+done 3<<'VARIANTS'
+mixed|mixed correction|sph.gradient_correction="mixed"
+scatter|scatter density|sph.pair_density="scatter"
+VARIANTS
 args=("${default_args[@]}")
 
 # Across rank counts inside a cycle: a checkpoint written by two ranks resumed by one process, and

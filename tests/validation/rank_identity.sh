@@ -3,7 +3,8 @@
 # must write byte-identical snapshot files to one process (particles in ID order, no timestamps),
 # with adaptive smoothing lengths (the default), with one constant h, with gravity substepped (respa),
 # with block timesteps, and with pairs searched anew by every pair loop (sph.pair_lists = "rescan")
-# with the leapfrog and with block timesteps, and with block timesteps' super-steps.
+# with the leapfrog and with block timesteps, with block timesteps' super-steps, and with the scatter
+# density (sph.pair_density = "scatter", whose ghosts' values come with the density halo).
 # Usage: rank_identity.sh SPHDISK MPIEXEC
 set -euo pipefail
 sphdisk=$1
@@ -11,17 +12,18 @@ mpiexec=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail=0
-for variant in adaptive constant respa block rescan rescan_block super_steps; do
+for variant in adaptive constant respa block rescan rescan_block super_steps scatter; do
   smoothing=$variant scheme=leapfrog storage=stored
   case $variant in respa|block) smoothing=adaptive scheme=$variant ;; esac  # gravity substepped; block timesteps
   case $variant in rescan) smoothing=adaptive storage=rescan ;; rescan_block) smoothing=adaptive scheme=block storage=rescan ;; esac
-  update=explicit viscosity=3e-8 times='[0.0185, 0.019]'
+  update=explicit viscosity=3e-8 times='[0.0185, 0.019]' density=summation
+  [ $variant = scatter ] && smoothing=adaptive scheme=block storage=rescan density=scatter
   # (a viscosity large enough that steps take several stages)
   [ $variant = super_steps ] && smoothing=adaptive scheme=block storage=rescan update=super_steps viscosity=3e-5 times='[0.0186, 0.2]'
   args=(run -q --set problem.particles=4000 --set "output.tau=$times" --set output.progress_interval=0
         --set "sph.smoothing=\"$smoothing\"" --set "integrator.scheme=\"$scheme\"" --set physics.accretion_radius=0.85
         --set "sph.pair_lists=\"$storage\"" --set "integrator.viscous_update=\"$update\"" \
-        --set physics.viscosity=$viscosity "$(dirname "$0")/small_ring.toml")
+        --set physics.viscosity=$viscosity --set "sph.pair_density=\"$density\"" "$(dirname "$0")/small_ring.toml")
   OMP_NUM_THREADS=1 "$sphdisk" "${args[@]}" --output "$work/$variant/serial" > /dev/null
   runs="2 1,3 1,2 2"
   [ $variant = constant ] && runs="3 1"
@@ -30,6 +32,7 @@ for variant in adaptive constant respa block rescan rescan_block super_steps; do
   [ $variant = rescan ] && runs="3 1,2 2"
   [ $variant = rescan_block ] && runs="3 1"
   [ $variant = super_steps ] && runs="3 1"
+  [ $variant = scatter ] && runs="2 1,3 1"
   IFS=, read -ra list <<< "$runs"
   for run in "${list[@]}"; do
     set -- $run

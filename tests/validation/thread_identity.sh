@@ -61,5 +61,15 @@ done
 for f in snapshot_001.hdf5 snapshot_002.hdf5; do
   if cmp -s "$work/mixed1/$f" "$work/mixed3/$f"; then echo "identical with the mixed correction and the others' densities: $f with 1 and 3 threads"; else echo "DIFFERENT with the mixed correction and the others' densities: $f with 1 and 3 threads"; fail=1; fi
 done
+# The scatter density (sph.pair_density = "scatter"): one more pair loop in the density stage, with
+# block timesteps and rescanned pairs (the defaults).
+for t in 1 3; do
+  OMP_NUM_THREADS=$t "$sphdisk" run -q --output "$work/scatter$t" \
+    --set problem.particles=4000 --set 'output.tau=[0.0185, 0.019]' --set output.progress_interval=0 \
+    --set 'sph.pair_density="scatter"' "$(dirname "$0")/small_ring.toml" > /dev/null
+done
+for f in snapshot_001.hdf5 snapshot_002.hdf5; do
+  if cmp -s "$work/scatter1/$f" "$work/scatter3/$f"; then echo "identical with the scatter density: $f with 1 and 3 threads"; else echo "DIFFERENT with the scatter density: $f with 1 and 3 threads"; fail=1; fi
+done
 [ $fail -eq 0 ] && echo "thread identity: 1 passed, 0 failed" || echo "thread identity: 0 passed, 1 failed"
 exit $fail

@@ -13,22 +13,24 @@ namespace {
 // rest alone), and come back sized to the particles with zeros; the present ones keep their values.
 // A run with the leapfrog, no energy equation and the conservative force leaves out the block
 // steps' state, u, du_dt, the moment correction and its shift, the artificial viscosity's limiter,
-// signal speed, alpha and compression: 120 bytes per particle in 2D (104 with single-precision
+// signal speed, alpha and compression, the scatter density: 128 bytes per particle in 2D (112 with single-precision
 // fields); a run that uses them all leaves out nothing.
 TEST(Particles, TheRingsRunLeavesOutWhatItDoesNotUse) {
   Particles<2> p = test::random_particles<2>(1000, 3, false);
   const std::size_t all = p.bytes();
-  p.set_absent_fields(unused_fields(false, false, false, false, false));
+  p.set_absent_fields(unused_fields(false, false, false, false, false, false));
   EXPECT_TRUE(p.u.empty() && p.du_dt.empty() && p.u_kick.empty() && p.correction.empty() && p.v_kick.empty() &&
               p.correction_shift.empty() && p.av_limiter.empty() && p.signal_speed.empty() && p.av_alpha.empty() &&
-              p.compression.empty());
+              p.compression.empty() && p.scatter_density.empty());
   EXPECT_EQ(p.stress.size(), p.size());
   EXPECT_EQ(all - p.bytes(),
-            p.size() * (7 * sizeof(double) + sizeof(std::uint64_t) + 2 * sizeof(Vec<2>) + sizeof(Mat<2, ReducedReal>)));
-  EXPECT_EQ(unused_fields(true, true, true, true, true), 0u);
-  EXPECT_EQ(unused_fields(true, false, true, false, false) & kForceCorrectionOnly, 0u);
-  EXPECT_EQ(unused_fields(true, false, true, true, false) & kMixedCorrectionOnly, 0u);
-  EXPECT_EQ(unused_fields(false, false, false, false, true) & kArtificialViscosityOnly, 0u);
+            p.size() * (8 * sizeof(double) + sizeof(std::uint64_t) + 2 * sizeof(Vec<2>) + sizeof(Mat<2, ReducedReal>)));
+  EXPECT_EQ(unused_fields(true, true, true, true, true, true), 0u);
+  EXPECT_EQ(unused_fields(true, false, true, false, false, false) & kForceCorrectionOnly, 0u);
+  EXPECT_EQ(unused_fields(true, false, true, true, false, false) & kMixedCorrectionOnly, 0u);
+  EXPECT_EQ(unused_fields(false, false, false, false, true, false) & kArtificialViscosityOnly, 0u);
+  EXPECT_EQ(unused_fields(false, false, false, false, false, true) & kScatterDensityOnly, 0u);
+  EXPECT_NE(unused_fields(true, true, true, true, true, false) & kScatterDensityOnly, 0u);
 }
 
 TEST(Particles, AbsentFieldsCostNothingAndComeBackAsZeros) {

@@ -91,3 +91,58 @@ TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesStoredLists) {
   check_stages(test::sheared_lattice(), 0.025, PairStorage::Stored);
   check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Stored);
 }
+
+namespace {
+
+// The scatter density (PairDensity::Scatter, physics/scatter_density.hpp) of an evaluation with
+// adaptive h on clustered particles (h varies several-fold) equals the brute-force sum
+// m_i W(0, h_i) + sum_{j != i} m_j W(|x_i - x_j|, h_j) over all particles, differs from the gather
+// sum where h varies, and has the same bits for one and two threads.
+template <int D>
+void check_scatter_density(PairStorage storage) {
+  auto evaluate = [&](int threads) {
+    par::set_threads(threads);
+    Particles<D> p = test::random_particles<D>(1200, 17, true);
+    std::fill(p.h.begin(), p.h.end(), 0.05);
+    PhysicsParams phys;
+    phys.nu = 0.01;
+    phys.gm = 0.0;
+    phys.pair_density = PairDensity::Scatter;
+    PhaseTimers timers;
+    RateEvaluator<D> rates(KernelType::Cubic, 0.05, phys, timers, Smoothing::Adaptive, D == 2 ? 30 : 58);
+    rates.set_pair_storage(storage);
+    p.set_absent_fields(unused_fields(false, false, true, false, false, true));
+    rates.evaluate(p);
+    par::set_threads(0);
+    return p;
+  };
+  const Particles<D> p = evaluate(2);
+  ASSERT_EQ(p.scatter_density.size(), p.size());
+  const KernelAt<CubicSpline, D> unit(1.0);
+  auto W = [&](double r, double h) { return unit.W(r / h) / std::pow(h, D); };
+  double h_min = 1e300, h_max = 0, largest_gap = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    double sum = p.mass[i] * W(0.0, p.h[i]);
+    for (std::size_t j = 0; j < p.size(); ++j)
+      if (j != i) sum += p.mass[j] * W(std::sqrt(norm2(p.pos[i] - p.pos[j])), p.h[j]);
+    ASSERT_NEAR(p.scatter_density[i], sum, 1e-12 * sum) << "particle " << i;
+    h_min = std::min(h_min, static_cast<double>(p.h[i])), h_max = std::max(h_max, static_cast<double>(p.h[i]));
+    largest_gap = std::max(largest_gap, std::abs(sum / p.rho[i] - 1));
+  }
+  EXPECT_GT(h_max / h_min, 3.0);
+  EXPECT_GT(largest_gap, 0.05);  // not the gather sum
+  const Particles<D> one = evaluate(1);
+  for (std::size_t i = 0; i < p.size(); ++i) ASSERT_EQ(one.scatter_density[i], p.scatter_density[i]) << "particle " << i;
+}
+
+}  // namespace
+
+TEST(ScatterDensity, EqualsBruteForceForPairsSearchedAnew) {
+  check_scatter_density<2>(PairStorage::Rescan);
+  check_scatter_density<3>(PairStorage::Rescan);
+}
+
+TEST(ScatterDensity, EqualsBruteForceForStoredLists) {
+  check_scatter_density<2>(PairStorage::Stored);
+  check_scatter_density<3>(PairStorage::Stored);
+}

@@ -206,7 +206,7 @@ TEST(Checkpoint, AbsentFieldsAreNeitherStoredNorExpected) {
 // expect them, and an earlier format, which always had them, may not claim them absent.
 TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
   Particles<2> p = sample_particles();
-  p.set_absent_fields(unused_fields(true, false, false, false, false));
+  p.set_absent_fields(unused_fields(true, false, false, false, false, false));
   const fs::path path = temp_file("unused.h5");
   RunState r;
   const Particles<2> q = round_trip(p, state_inside_a_cycle(), path, r);  // (with the rate state: stress, correction)
@@ -235,7 +235,7 @@ TEST(Checkpoint, FieldsTheRunDoesNotUseAreNeitherStoredNorExpected) {
 // attributes that differ set to their format-6 values (neither is in the checksum).
 TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
   Particles<2> p = sample_particles();
-  p.set_absent_fields(unused_fields(true, false, true, true, false));
+  p.set_absent_fields(unused_fields(true, false, true, true, false, false));
   for (std::size_t i = 0; i < p.size(); ++i) p.correction_shift[i] = Vec<2>{{0.1 * static_cast<double>(i), -1.0}};
   const fs::path path = temp_file("shift.h5");
   RunState r;
@@ -243,7 +243,7 @@ TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
   expect_same_bits(p.correction_shift, q.correction_shift);
 
   Particles<2> linear = sample_particles();
-  linear.set_absent_fields(unused_fields(true, false, true, false, false));
+  linear.set_absent_fields(unused_fields(true, false, true, false, false, false));
   write_checkpoint(path.string(), linear, state_inside_a_cycle());
   const auto set_format6 = [&](long long absent) {
     h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
@@ -251,11 +251,12 @@ TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
     h5::write_attr(g, "FormatVersion", 6LL);
     h5::write_attr(g, "AbsentFields", absent);
   };
-  set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kMixedCorrectionOnly | kArtificialViscosityOnly}));
+  set_format6(static_cast<long long>(linear.absent_fields() &
+                                    ~unsigned{kMixedCorrectionOnly | kArtificialViscosityOnly | kScatterDensityOnly}));
   const Particles<2> old = read_checkpoint<2>(path.string(), r);
   EXPECT_TRUE(old.correction_shift.empty());
   expect_same_bits(linear.correction, old.correction);
-  set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kArtificialViscosityOnly}));
+  set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kArtificialViscosityOnly | kScatterDensityOnly}));
   try {
     read_checkpoint<2>(path.string(), r);
     ADD_FAILURE() << "a format-6 checkpoint claiming flag 256 absent was accepted";

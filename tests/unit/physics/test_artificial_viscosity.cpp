@@ -71,7 +71,7 @@ Particles<3> converging_cloud(double alpha, PhysicsParams& phys) {
   phys.viscous_force = ViscousForce::Conservative;
   phys.evolve_energy = true;
   phys.av_alpha = alpha;
-  p.set_absent_fields(unused_fields(false, true, false, false, phys.artificial_viscosity()));
+  p.set_absent_fields(unused_fields(false, true, false, false, phys.artificial_viscosity(), false));
   for (std::size_t i = 0; i < p.av_alpha.size(); ++i) p.av_alpha[i] = alpha * (0.1 + 0.9 * static_cast<double>(i % 7) / 6.0);
   PhaseTimers timers;
   RateEvaluator<3> rates(KernelType::Cubic, 0.06, phys, timers, Smoothing::Adaptive, 58.0);

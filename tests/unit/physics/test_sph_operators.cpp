@@ -332,7 +332,7 @@ TEST(Conservation, FieldsARunDoesNotUseChangeNoRate) {
         phys.sound_speed = 0.3;
         phys = test::with_form(phys, form);
         const bool force_correction = phys.keeps_correction();
-        lean.set_absent_fields(unused_fields(false, false, force_correction, phys.keeps_correction_shift(), false));
+        lean.set_absent_fields(unused_fields(false, false, force_correction, phys.keeps_correction_shift(), false, false));
         for (Particles<2>* p : {&full, &lean}) {
           PhaseTimers timers;
           RateEvaluator<2> rates(KernelType::WendlandC2, 0.02, phys, timers);
