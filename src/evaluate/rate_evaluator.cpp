@@ -106,7 +106,8 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   {
     ScopedPhase t(timers_, "density");
     density(pairs);
-    if (phys_.keeps_scatter_density()) {
+    // A super-step's stage keeps the scatter density, as it keeps h and rho (same positions).
+    if (phys_.keeps_scatter_density() && !stage_) {
       compute_scatter_density(p, pairs, phys_, scatter_scratch_);
       if (lean()) release_memory(scatter_scratch_.scales, scatter_scratch_.sums);
     }

@@ -36,9 +36,10 @@ std::map<std::uint64_t, Rates<D>> rates_by_id(const Particles<D>& p, std::size_t
 // stresses and quadruples the heating exactly (the viscous rates are linear in v, the heating
 // quadratic; doubling is exact in floating point).
 template <int D>
-void check_stages(Particles<D> p, double h0, PairStorage storage) {
+void check_stages(Particles<D> p, double h0, PairStorage storage, PairDensity density = PairDensity::Summation) {
   std::fill(p.h.begin(), p.h.end(), h0);
   PhysicsParams phys;
+  phys.pair_density = density;
   phys.nu = 0.01;
   phys.gm = 0.0;
   phys.evolve_energy = true;
@@ -85,6 +86,12 @@ void check_stages(Particles<D> p, double h0, PairStorage storage) {
 TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesPairsSearchedAnew) {
   check_stages(test::sheared_lattice(), 0.025, PairStorage::Rescan);
   check_stages(test::random_particles<3>(1500, 58, true), 0.05, PairStorage::Rescan);
+}
+
+// With the scatter density (kept by the stages, as h and rho are).
+TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesWithTheScatterDensity) {
+  check_stages(test::sheared_lattice(), 0.025, PairStorage::Rescan, PairDensity::Scatter);
+  check_stages(test::random_particles<2>(1500, 58, true), 0.05, PairStorage::Stored, PairDensity::Scatter);
 }
 
 TEST(SuperStepStages, KeepHAndRhoAndRepeatTheRatesStoredLists) {
