@@ -230,14 +230,16 @@ template <bool Subtract>
   _mm_storeu_pd(ai.c.data(), sum);
 }
 
-// The consistent divergence of eq. 6 (consistent_viscous_pair with linear_corrected_gradients, the
-// summed densities' ln rho_j - ln rho_i; no pressure), eight partners per round: positions,
-// stresses, moment corrections, ln rho, 1/rho and masses loaded, both particles' terms formed for
-// all eight with the scalar loop's operations in its order, then interleaved to (x, y) per pair
-// and added to i's sum and to the partner's acceleration pair by pair in list order.
+// The consistent divergence of eq. 6 (consistent_viscous_pair with linear_corrected_gradients and
+// the ln rho_j - ln rho_i that log_rho holds), with the pressure force and its work where Pressure
+// (no artificial viscosity; force_list_terms<2, Pressure, false, true>, list_sums.hpp), eight
+// partners per round: both particles' terms formed for all eight with the scalar loop's operations
+// in its order, then added pair by pair in list order as the scalar loop adds them (the viscous
+// term, then the pressure's work and force).
+template <bool Pressure>
 [[gnu::target("avx512f,avx512vl")]] void consistent_force_list_avx512(const ForceListData<2>& d, std::uint32_t i,
                                                                       const std::uint32_t* js, const float* F, std::size_t n,
-                                                                      Vec<2>& ai) {
+                                                                      Vec<2>& ai, double& du_i) {
   const double* pos = reinterpret_cast<const double*>(d.pos);
   const double* stress = reinterpret_cast<const double*>(d.stress);
   const double* correction = reinterpret_cast<const double*>(d.correction);
@@ -246,8 +248,11 @@ template <bool Subtract>
   for (std::size_t c = 0; c < 4; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]), Ci[c] = _mm512_set1_pd(d.correction[i].c[c]);
   const __m512d log_rho_i = _mm512_set1_pd(d.log_rho[i]);
   const __m512d Vi = _mm512_set1_pd(d.volume[i]);
+  const __m512d vxi = _mm512_set1_pd(d.vel[i][0]), vyi = _mm512_set1_pd(d.vel[i][1]);
+  const __m512d mi = _mm512_set1_pd(d.mass[i]), Pr_i = _mm512_set1_pd(Pressure ? d.p_over_rho2[i] : 0.0);
+  const double* vel = reinterpret_cast<const double*>(d.vel);
   __m128d sum = _mm_loadu_pd(ai.c.data());
-  alignas(64) double to_i[16], to_j[16];
+  alignas(64) double to_i[16], to_j[16], press_i[16], press_j[16], work_i[8], work_j[8];
   for (std::size_t q = 0; q < n; q += 8) {
     const Round r = load_round(js, F, q, n);
     __m512d xj, yj, Sj[4], Cj[4];
@@ -275,7 +280,34 @@ template <bool Subtract>
     const __m512d by = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[2], Gjx), _mm512_mul_pd(Xj[3], Gjy)), Vi);
     interleave(ax, ay, to_i);
     interleave(bx, by, to_j);
-    add_round<false>(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
+    const std::size_t count = std::min<std::size_t>(8, n - q);
+    if constexpr (!Pressure) {
+      add_round<false>(d, js + q, count, to_i, to_j, sum);
+    } else {
+      // pressure_pair, subtracted from a zero f, and pressure_work_pair with v_ij . g
+      const __m512d mj = avx512::load_singles(d.mass, r.j), Pr_j = avx512::load_singles(d.p_over_rho2, r.j);
+      const __m512d Pr = _mm512_add_pd(Pr_i, Pr_j);
+      const __m512d fx = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(gx, Pr));
+      const __m512d fy = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(gy, Pr));
+      interleave(_mm512_mul_pd(fx, mj), _mm512_mul_pd(fy, mj), press_i);
+      interleave(_mm512_mul_pd(fx, mi), _mm512_mul_pd(fy, mi), press_j);
+      __m512d vxj, vyj;
+      avx512::load_pairs(vel, r.j, vxj, vyj);
+      const __m512d work = _mm512_add_pd(_mm512_mul_pd(_mm512_sub_pd(vxi, vxj), gx), _mm512_mul_pd(_mm512_sub_pd(vyi, vyj), gy));
+      _mm512_store_pd(work_i, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
+      _mm512_store_pd(work_j, _mm512_mul_pd(_mm512_mul_pd(Pr_j, mi), work));
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t j = js[q + k];
+        const bool writable = j < d.writable;
+        double* a = writable ? d.acc[j].c.data() : nullptr;
+        sum = _mm_add_pd(sum, _mm_load_pd(to_i + 2 * k));
+        if (writable) _mm_storeu_pd(a, _mm_add_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
+        du_i += work_i[k];
+        if (writable && d.du_dt) d.du_dt[j] += work_j[k];
+        sum = _mm_add_pd(sum, _mm_load_pd(press_i + 2 * k));
+        if (writable) _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(press_j + 2 * k)));
+      }
+    }
   }
   _mm_storeu_pd(ai.c.data(), sum);
 }
@@ -437,10 +469,11 @@ void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const 
                     Vec<2>& ai, double& du_i) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS
-  if (!d.with_pressure && !d.force_correction && vector_isa() == VectorIsa::avx512) {
-    if (!d.consistent) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
-    if (!d.rho_without_self && !d.correction_shift) {
-      return consistent_force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
+  if (!d.force_correction && vector_isa() == VectorIsa::avx512) {
+    if (!d.with_pressure && !d.consistent) return force_list_avx512(d, i, js.data(), F.data(), js.size(), ai);
+    if (d.consistent && !d.rho_without_self && !d.correction_shift && !d.sound_speed) {
+      if (d.with_pressure) return consistent_force_list_avx512<true>(d, i, js.data(), F.data(), js.size(), ai, du_i);
+      return consistent_force_list_avx512<false>(d, i, js.data(), F.data(), js.size(), ai, du_i);
     }
   }
 #endif

@@ -37,19 +37,23 @@ void compute_scatter_density(Particles<D>& p, const Pairs& pairs, const PhysicsP
   const KernelScale* s = fill_kernel_scales(p, phys.kernel, scratch.scales, "density");
   const std::size_t m = pairs.writable();
   std::vector<double>& sums = scratch.sums;
-  sum_pair_lists(
-      pairs, sums,
-      [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float>, double& sum_i) {
-        const Vec<D> xi = p.pos[i];
-        const double mi = p.mass[i];
-        for (std::size_t q = 0; q < js.size(); ++q) {
-          const std::uint32_t j = js[q];
-          const PairValues w = pair_kernel_values(phys.kernel, s[i], s[j], std::sqrt(norm2(xi - p.pos[j])));
-          sum_i += density_term(p.mass[j], w.j);
-          if (j < m) sums[j] += density_term(mi, w.i);
-        }
-      },
-      "density", FactorUse::Ignore);
+  // (The kernel chosen once for the whole loop: a choice per pair costs a call per pair.)
+  with_kernel(phys.kernel, [&](auto kernel) {
+    using K = decltype(kernel);
+    sum_pair_lists(
+        pairs, sums,
+        [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float>, double& sum_i) {
+          const Vec<D> xi = p.pos[i];
+          const double mi = p.mass[i];
+          for (std::size_t q = 0; q < js.size(); ++q) {
+            const std::uint32_t j = js[q];
+            const PairValues w = pair_kernel_values<K>(s[i], s[j], std::sqrt(norm2(xi - p.pos[j])));
+            sum_i += density_term(p.mass[j], w.j);
+            if (j < m) sums[j] += density_term(mi, w.i);
+          }
+        },
+        "density", FactorUse::Ignore);
+  });
   par::for_each(
       m,
       [&](std::size_t i) {

@@ -396,3 +396,65 @@ TEST(ListSums, ConsistentForcePathsAgree) {
                               .to_i;
   EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
 }
+
+namespace {
+
+// What a 2D force list with pressure writes: the acceleration and the energy rate.
+struct ForceOut2 {
+  Vec<2> a{};
+  double du = 0.0;
+};
+
+}  // namespace
+
+// The consistent divergence with pressure (the cold ring, configs/ring_cold.toml): both paths'
+// accelerations and pressure work agree bit for bit, with and without an energy rate to write, and
+// the pressure's pair terms are those of the pair functions (one pair by hand).
+TEST(ListSums, ConsistentForceWithPressurePathsAgree) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields f = random_fields();
+  const Lists l = random_lists();
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), positive(0.5, 2.0);
+  std::vector<Mat<2, ReducedReal>> correction(kParticles);
+  std::vector<double> log_rho(kParticles), p_over_rho2(kParticles);
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
+    log_rho[k] = u(rng);
+    p_over_rho2[k] = positive(rng);
+  }
+  for (const bool energy : {true, false}) {
+    const auto run = [&] {
+      const ForceOut2 start{Vec<2>{{0.25, -0.5}}, 0.75};
+      ListResults<ForceOut2> r;
+      std::vector<Vec<2>> acc(kWritable, start.a);
+      std::vector<double> du_dt(kWritable, start.du);
+      for (std::size_t k = 0; k < l.owner.size(); ++k) {
+        ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
+                           p_over_rho2.data(), acc.data(), energy ? du_dt.data() : nullptr, kWritable, true, false};
+        d.log_rho = log_rho.data();
+        d.consistent = true;
+        d.volume = f.volume.data();
+        ForceOut2 own;
+        add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own.a, own.du);
+        r.own.push_back(own);
+      }
+      for (std::size_t j = 0; j < kWritable; ++j) r.stored.push_back({acc[j], du_dt[j]});
+      return r;
+    };
+    const auto scalar = scalar_after_every_path_agrees(run, energy ? " with energy" : " without energy");
+    EXPECT_NE(scalar.stored[0].a, (Vec<2>{{0.25, -0.5}}));
+    EXPECT_EQ(scalar.stored[0].du != 0.75, energy);  // the partners' energy rates only where kept
+    // Not vacuous: the one-partner list gives the viscous pair term plus the pressure's.
+    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+    const Vec<2> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
+    const Mat<2> Si = as_double(f.stress[i]), Sj = as_double(f.stress[j]);
+    Vec<2> expected = consistent_viscous_pair(Si, Sj, linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
+                                              log_rho[j] - log_rho[i], f.volume[i], f.volume[j])
+                          .to_i;
+    expected += (Vec<2>{} - pressure_pair(p_over_rho2[i], p_over_rho2[j], g)) * f.mass[j];
+    EXPECT_EQ(std::memcmp(&scalar.own[1].a, &expected, sizeof expected), 0);
+    const double work = pressure_work_pair(p_over_rho2[i], p_over_rho2[j], f.mass[i], f.mass[j], f.vel[i] - f.vel[j], g).to_i;
+    EXPECT_EQ(scalar.own[1].du, work);
+  }
+}
