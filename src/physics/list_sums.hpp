@@ -259,10 +259,11 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
 }
 
 // The vector paths where the CPU has AVX-512 (gradient: or AVX2) and the case is covered, else the
-// scalar loop. Gradient: without the mixed correction's sums. Force: in 2D without pressure or force
-// correction, eq. 6's conservative form and the consistent one with the linear correction and the
-// summed densities (the ring's cases); in 3D the conservative form with pressure, with or without
-// the artificial viscosity (the disc's case).
+// scalar loop. Gradient: without the mixed correction's sums. Force: in 2D without force correction,
+// eq. 6's conservative form without pressure, and the consistent one with the linear correction and
+// the ln rho of log_rho (summed or scatter densities), with or without pressure but without the
+// artificial viscosity (the rings' cases); in 3D the conservative form with pressure, with or
+// without the artificial viscosity (the disc's case).
 template <int D>
 void add_gradient_list(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<D>& sum_i);
