@@ -130,6 +130,33 @@ template <int D>
   }
 }
 
+// What the scatter-density sums of a list (scatter_density.hpp) read and write: sums[j] for the
+// partners j < writable; scales: every particle's kernel scale.
+template <int D>
+struct ScatterListData {
+  const Vec<D>* pos;
+  const double* mass;
+  const KernelScale* scales;
+  double* sums;
+  std::size_t writable;
+  KernelType kernel = KernelType::Cubic;
+};
+
+// Each pair's two kernel values: i gets m_j W(r, h_j), a writable j gets m_i W(r, h_i)
+// (density_term, pair_terms.hpp). (always_inline: list_sums.cpp dispatches to it.)
+template <class K, int D>
+[[gnu::always_inline]] inline void add_scatter_list_scalar(const ScatterListData<D>& d, std::uint32_t i,
+                                                           std::span<const std::uint32_t> js, double& sum_i) {
+  const Vec<D> xi = d.pos[i];
+  const double mi = d.mass[i];
+  for (std::size_t q = 0; q < js.size(); ++q) {
+    const std::uint32_t j = js[q];
+    const PairValues w = pair_kernel_values<K>(d.scales[i], d.scales[j], std::sqrt(norm2(xi - d.pos[j])));
+    sum_i += density_term(d.mass[j], w.j);
+    if (j < d.writable) d.sums[j] += density_term(mi, w.i);
+  }
+}
+
 // What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.
 // inv_rho: 1 / rho (read by the conservative divergence and with pressure); p_over_rho2: P / rho^2
 // (read only with pressure); correction: read only with force_correction or the consistent
@@ -267,6 +294,9 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
 template <int D>
 void add_gradient_list(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<D>& sum_i);
+// Scatter density: in 2D with the cubic kernel on AVX-512.
+template <int D>
+void add_scatter_list(const ScatterListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js, double& sum_i);
 void add_force_list(const ForceListData<2>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,
                     Vec<2>& ai, double& du_i);
 void add_force_list(const ForceListData<3>& d, std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float> F,

@@ -6,10 +6,9 @@
 // rho_i = sum_j m_j W(r_ij, h_i) (density.hpp) is biased by (kappa/2) h_i^2 lap rho, which at a
 // fixed neighbour number grows without bound in a profile's sparse wings (h^2 ~ 1/rho); the scatter
 // sum's bias, (kappa/2) lap(h^2 rho), vanishes in 2D at a fixed neighbour number (docs/physics.md
-// sec. 2). Each pair once: pair_kernel_values gives W(r, h_i) and W(r, h_j); i receives m_j W(r, h_j)
-// and j receives m_i W(r, h_i) (density_term, pair_terms.hpp). Computed for the writable particles,
-// like rho; the pairs must hold every neighbour within either particle's support, as the pair
-// sources do.
+// sec. 2). Each pair once: i receives m_j W(r, h_j) and j receives m_i W(r, h_i) (add_scatter_list,
+// list_sums.hpp). Computed for the writable particles, like rho; the pairs must hold every
+// neighbour within either particle's support, as the pair sources do.
 // Reads: pos, mass, h. Writes: scatter_density.
 #include <cmath>
 #include <span>
@@ -37,23 +36,12 @@ void compute_scatter_density(Particles<D>& p, const Pairs& pairs, const PhysicsP
   const KernelScale* s = fill_kernel_scales(p, phys.kernel, scratch.scales, "density");
   const std::size_t m = pairs.writable();
   std::vector<double>& sums = scratch.sums;
-  // (The kernel chosen once for the whole loop: a choice per pair costs a call per pair.)
-  with_kernel(phys.kernel, [&](auto kernel) {
-    using K = decltype(kernel);
-    sum_pair_lists(
-        pairs, sums,
-        [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float>, double& sum_i) {
-          const Vec<D> xi = p.pos[i];
-          const double mi = p.mass[i];
-          for (std::size_t q = 0; q < js.size(); ++q) {
-            const std::uint32_t j = js[q];
-            const PairValues w = pair_kernel_values<K>(s[i], s[j], std::sqrt(norm2(xi - p.pos[j])));
-            sum_i += density_term(p.mass[j], w.j);
-            if (j < m) sums[j] += density_term(mi, w.i);
-          }
-        },
-        "density", FactorUse::Ignore);
-  });
+  sum_pair_lists(
+      pairs, sums,
+      [&](std::uint32_t i, std::span<const std::uint32_t> js, std::span<const float>, double& sum_i) {
+        add_scatter_list(ScatterListData<D>{p.pos.data(), p.mass.data(), s, sums.data(), m, phys.kernel}, i, js, sum_i);
+      },
+      "density", FactorUse::Ignore);
   par::for_each(
       m,
       [&](std::size_t i) {

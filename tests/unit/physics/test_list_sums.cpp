@@ -458,3 +458,38 @@ TEST(ListSums, ConsistentForceWithPressurePathsAgree) {
     EXPECT_EQ(scalar.own[1].du, work);
   }
 }
+
+// The scatter density's pair terms (the cold ring's extra loop): both paths' sums agree bit for bit
+// for every kernel (the cubic one has an AVX-512 loop), with partners at the kernel's breakpoints
+// q = 1 and q = 2 of either particle and a coincident one, and the one-partner list gives the pair's
+// term m_j W(r, h_j).
+TEST(ListSums, ScatterPathsAgree) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  Fields f = random_fields();
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> h(0.3, 1.5);
+  std::vector<double> hs(kParticles);
+  for (double& x : hs) x = h(rng);
+  hs[3] = 0.5;  // partners at q = 1 and q = 2 of particle 3's kernel
+  f.pos[8] = f.pos[3] + Vec<2>{{0.5, 0.0}};
+  f.pos[9] = f.pos[3] + Vec<2>{{0.0, 1.0}};
+  const Lists l = random_lists();
+  for (const KernelType kernel : {KernelType::Cubic, KernelType::WendlandC2, KernelType::WendlandC4}) {
+    std::vector<KernelScale> scales(kParticles);
+    with_kernel(kernel, [&](auto k) {
+      for (std::size_t q = 0; q < kParticles; ++q) scales[q] = scale_of(KernelAt<decltype(k), 2>(hs[q]));
+    });
+    const auto run = [&] {
+      return sum_each_list(l, 0.5, [&](double* sums, std::uint32_t i, const auto& js, const auto&, double& own) {
+        add_scatter_list(ScatterListData<2>{f.pos.data(), f.mass.data(), scales.data(), sums, kWritable, kernel}, i, js, own);
+      });
+    };
+    const auto scalar = scalar_after_every_path_agrees(run, " kernel " + std::to_string(static_cast<int>(kernel)));
+    EXPECT_NE(scalar.stored[0], 0.5);
+    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+    const double expected = with_kernel(kernel, [&](auto k) {
+      return f.mass[j] * KernelAt<decltype(k), 2>(hs[j]).W(norm(f.pos[i] - f.pos[j]));
+    });
+    EXPECT_DOUBLE_EQ(scalar.own[1], expected);
+  }
+}
