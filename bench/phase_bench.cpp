@@ -43,6 +43,7 @@ struct Fixture {
   PairFactors factors;
   GradientSumsArray<2> sums;
   OverwriteVector<KernelScale> scales;
+  ScatterDensityScratch scatter;
   ForceScratch scratch;
 
   // The neighbour search of a run with constant h: tile order, then each pair once (rate_evaluator.cpp).
@@ -63,7 +64,7 @@ struct Fixture {
     build_cell_grid(p.pos, p.id, h, grid);
     search();
     compute_density(p, StoredPairs{pairs, factors}, KernelAt<CubicSpline, 2>(h));
-    compute_viscous_stress(p, StoredPairs{pairs, factors}, phys, sums, scales);
+    compute_viscous_stress(p, StoredPairs{pairs, factors}, phys, sums, scales, scatter);
   }
 };
 
@@ -104,7 +105,7 @@ void BM_Density(benchmark::State& state) {
 void BM_VelocityGradient(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
   Fixture& f = fixture(n);
-  for (auto _ : state) compute_viscous_stress(f.p, StoredPairs{f.pairs, f.factors}, f.phys, f.sums, f.scales);
+  for (auto _ : state) compute_viscous_stress(f.p, StoredPairs{f.pairs, f.factors}, f.phys, f.sums, f.scales, f.scatter);
   finish(state, n, f.pairs);
 }
 

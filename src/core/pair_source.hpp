@@ -12,10 +12,8 @@
 namespace sphdisk {
 
 // What a pair loop does with the kernel-gradient factors of its pairs (physics/pair_factors.hpp):
-// computes them (the density loop), reads them (the loops after it), or neither (a loop that needs
-// only the partners: the scatter density's, physics/scatter_density.hpp; sources that form the
-// factors on their way then leave them unformed).
-enum class FactorUse { Write, Read, Ignore };
+// computes them (the density loop) or reads them (the loops after it).
+enum class FactorUse { Write, Read };
 
 // Where a pair loop puts the far pairs: after the tiles' pairs (the default), or before them (the
 // velocity-gradient sums: so that a particle's sums are complete once the tiles around it have

@@ -81,12 +81,13 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)   \
   X(av_alpha, Scalar, "ViscosityAlpha",  kSnapshot | kCheckpoint | kArtificialViscosityOnly | kHaloStress, 0, 0, 0) \
   X(compression, Scalar, "Compression",  kArtificialViscosityOnly,              0,  0, -1)     \
-  X(scatter_density, Scalar, "ScatterDensity", kRateState | kScatterDensityOnly | kHaloDensity, -2, 1, 0)
+  X(scatter_density, Scalar, "ScatterDensity", kRateState | kScatterDensityOnly | kHaloStress, -2, 1, 0)
 // clang-format on
 // av_alpha, compression: the artificial viscosity's alpha of each particle, and the rate max(-div v, 0)
 // of the last evaluation that drives its time-dependent switch (physics/viscosity_switch.hpp); last,
 // so that the checkpoints' checksums of the fields before them keep their field indices.
-// scatter_density: sum_j m_j W(r_ij, h_j), self term included (physics/scatter_density.hpp); after
+// scatter_density: sum_j m_j W(r_ij, h_j), self term included (physics/scatter_density.hpp), summed
+// with the velocity gradient and sent to the ghosts with the stress; after
 // compression for the same reason.
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a

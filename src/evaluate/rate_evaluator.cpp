@@ -17,7 +17,6 @@
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/list_factors.hpp"
-#include "physics/scatter_density.hpp"
 #include "physics/smoothing_length.hpp"
 #include "physics/viscous_rates.hpp"
 #include "physics/viscous_stress.hpp"
@@ -106,11 +105,6 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   {
     ScopedPhase t(timers_, "density");
     density(pairs);
-    // A super-step's stage keeps the scatter density, as it keeps h and rho (same positions).
-    if (phys_.keeps_scatter_density() && !stage_) {
-      compute_scatter_density(p, pairs, phys_, scatter_scratch_);
-      if (lean()) release_memory(scatter_scratch_.scales, scatter_scratch_.sums);
-    }
   }
   refresh_ghosts(p, GhostStage::Density);
   // The force correction's heating loop runs between the gradient and force loops, where the
@@ -121,15 +115,15 @@ void RateEvaluator<D>::pair_loops(Particles<D>& p, const Pairs& pairs, Density&&
   if constexpr (JoinsLoops<Pairs>) {
     if (!domain_ && !corrected_heating) {
       ScopedPhase t(timers_, "gradient_and_forces");
-      compute_stress_and_accelerations(p, pairs, phys_, gradient_sums_, force_scratch_, gravity_);
-      if (lean()) release_memory(gradient_sums_);
+      compute_stress_and_accelerations(p, pairs, phys_, gradient_sums_, force_scratch_, scatter_scratch_, gravity_);
+      if (lean()) release_memory(gradient_sums_, scatter_scratch_.scales, scatter_scratch_.sums);
       return;
     }
   }
   {
     ScopedPhase t(timers_, "velocity_gradient");
-    compute_viscous_stress(p, pairs, phys_, gradient_sums_, force_scratch_.scales);
-    if (lean()) release_memory(gradient_sums_);
+    compute_viscous_stress(p, pairs, phys_, gradient_sums_, force_scratch_.scales, scatter_scratch_);
+    if (lean()) release_memory(gradient_sums_, scatter_scratch_.scales, scatter_scratch_.sums);
   }
   refresh_ghosts(p, GhostStage::Stress);
   if (corrected_heating) {

@@ -194,10 +194,6 @@ struct StoredPairsFormingFactors {
   void prepare_factors() const {}
   template <class F>
   void for_each_list(F&& f, FactorUse use, std::string_view trace_label = {}, FarPairs far_pairs = FarPairs::Last) const {
-    if (use == FactorUse::Ignore) {  // the factors stay as they are, formed or not
-      stored.for_each_list(f, use, trace_label, far_pairs);
-      return;
-    }
     if (formed || use == FactorUse::Write) {
       formed = true;
       stored.for_each_list(f, use, trace_label, far_pairs);

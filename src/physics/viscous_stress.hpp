@@ -19,6 +19,7 @@
 #include "physics/moment_correction.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/physics_params.hpp"
+#include "physics/scatter_density.hpp"
 
 namespace sphdisk {
 
@@ -65,11 +66,11 @@ auto sum_lists_into(GradientSumsArray<D>& sums, std::size_t m, AddList add_list)
 }
 
 template <class Pairs, class T, class A, class AddList>
-void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list, const char* phase = "velocity_gradient",
-                    FactorUse use = FactorUse::Read) {
+void sum_pair_lists(const Pairs& pairs, std::vector<T, A>& sums, AddList&& add_list) {
   const std::size_t m = pairs.writable();
   zero_sums(m, sums);
-  pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), use, phase, FarPairs::First);
+  pairs.for_each_list(sum_lists_into(sums, m, std::forward<AddList>(add_list)), FactorUse::Read, "velocity_gradient",
+                      FarPairs::First);
 }
 
 // Eq. 8's V and the moment matrix M of a list's pairs (the list loops: list_sums.hpp), for sums
@@ -162,14 +163,22 @@ void settle_stress(Particles<D>& p, std::size_t i, const GradientSums<D>& g, con
 
 // sums: scratch, the writable particles' gradient sums (kept for inspection).
 // scales: scratch, the kernel scales (kernel_scales.hpp).
+// scatter: scratch of the scatter density, summed on the same lists where the particles keep it
+// (scatter_density.hpp).
 template <int D, PairSource Pairs>
 void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums,
-                            OverwriteVector<KernelScale>& scales) {
+                            OverwriteVector<KernelScale>& scales, ScatterDensityScratch& scatter) {
   const std::size_t m = pairs.writable();
   const KernelScale* s = fill_kernel_scales(p, phys, scales, "velocity_gradient");
   zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
-  pairs.for_each_list(sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, s)), FactorUse::Read,
-                      "velocity_gradient", FarPairs::First);
+  const auto gradient = sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, s));
+  if (phys.keeps_scatter_density()) {
+    const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, scatter);
+    pairs.for_each_list(with_scatter_sums(gradient, sd), FactorUse::Read, "velocity_gradient", FarPairs::First);
+    par::for_each(m, [&](std::size_t i) { settle_scatter_density(p, i, sd); }, "velocity_gradient");
+  } else {
+    pairs.for_each_list(gradient, FactorUse::Read, "velocity_gradient", FarPairs::First);
+  }
   par::for_each(m, [&](std::size_t i) { settle_stress(p, i, sums[i], phys); }, "velocity_gradient");
 }
 
