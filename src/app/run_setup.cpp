@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -32,11 +33,10 @@ Setup make_setup(const Config& cfg) {
   s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
   s.phys.alpha_ss = cfg.alpha_ss;
   s.phys.eos = eos_from_name(cfg.eos);
-  // c_s at r0: given in km/s, as H/R = c_s / v_Kepler(r0), or from nu = alpha c_s^2 / Omega(r0); v_Kepler(r0)
-  // and Omega(r0) are 1 in code units.
-  s.phys.sound_speed = cfg.viscosity_alpha > 0 ? std::sqrt(s.phys.nu / cfg.viscosity_alpha)
-                       : cfg.aspect_ratio > 0  ? cfg.aspect_ratio
-                                               : cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
+  // c_s at r0: given in km/s or as H/R = c_s / v_Kepler(r0), raised where needed to keep nu <= alpha_max c_s^2 /
+  // Omega(r0); v_Kepler(r0) and Omega(r0) are 1 in code units.
+  const double given = cfg.aspect_ratio > 0 ? cfg.aspect_ratio : cfg.sound_speed * 1e5 / s.units.velocity_cm_per_s();
+  s.phys.sound_speed = cfg.alpha_max > 0 ? std::max(given, std::sqrt(s.phys.nu / cfg.alpha_max)) : given;
   s.phys.sound_speed_index = cfg.sound_speed_index;
   s.phys.evolve_energy = cfg.evolve_energy;
   s.phys.av_alpha = cfg.av_alpha;

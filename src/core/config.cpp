@@ -179,7 +179,7 @@ const std::vector<KeyDef>& schema() {
       float_key("physics.gamma", &Config::gamma, in_range(1.0001, 10), "adiabatic: the adiabatic index gamma of P = (gamma - 1) rho u"),
       float_key("physics.sound_speed", &Config::sound_speed, non_negative(), "isothermal sound speed in km/s (locally_isothermal: at R = r0)"),
       float_key("physics.aspect_ratio", &Config::aspect_ratio, in_range(0, 1), "H/R = c_s / v_Kepler at R = r0, instead of physics.sound_speed (which is then 0): the thickness a locally isothermal or isothermal disc has in vertical equilibrium; 0: physics.sound_speed is given"),
-      float_key("physics.viscosity_alpha", &Config::viscosity_alpha, in_range(0, 100), "the sound speed from the constant physics.viscosity: c_s at r0 such that nu = alpha c_s H there (H = c_s / Omega), i.e. H/R = (nu / (alpha r0^2 Omega(r0)))^1/2, instead of physics.aspect_ratio or physics.sound_speed; the cold ring (configs/ring_cold.toml) takes alpha = 2, a pressure that keeps its particles ordered at any viscosity (docs/validation.md); 0: not used"),
+      float_key("physics.alpha_max", &Config::alpha_max, in_range(0, 100), "the largest alpha = nu Omega / c_s^2 at r0 the constant physics.viscosity may have: the sound speed given by physics.aspect_ratio or physics.sound_speed is raised to (nu Omega(r0) / alpha_max)^1/2 where it is lower, and with neither given is that; the cold ring (configs/ring_cold.toml) takes 2 with H/R 0.005, a pressure that keeps its particles ordered from 1/4 to 16 times the paper's viscosity (docs/validation.md); 0: not used"),
       float_key("physics.sound_speed_index", &Config::sound_speed_index, in_range(-2, 2), "locally_isothermal: q of c_s(R) = c_s (R / r0)^-q (Phantom's qfacdisc; 0.25 for its test disc)"),
       float_key("physics.av_alpha", &Config::av_alpha, in_range(0, 10), "artificial viscosity (Monaghan 1997 with the signal velocity, Phantom's form): alpha of its signal velocity alpha c_s + beta |v_ij . r_ij / r_ij| over approaching pairs; 0: none (the ring's viscosity is physics.viscosity alone); needs an equation of state; its signal speeds limit the steps (integrator.courant_factor)"),
       float_key("physics.av_beta", &Config::av_beta, in_range(0, 10), "artificial viscosity: beta of the signal velocity"),
@@ -387,18 +387,17 @@ void check_consistency(const Config& c) {
     throw UserError("config: physics.alpha_ss > 0 replaces physics.viscosity; set physics.viscosity = 0");
   if (c.alpha_ss > 0 && c.output_times.empty() && c.output_orbits.empty())
     throw UserError("config: with physics.alpha_ss > 0 there is no viscous time tau; give output.times or output.orbits");
-  if ((c.sound_speed > 0) + (c.aspect_ratio > 0) + (c.viscosity_alpha > 0) > 1)
-    throw UserError("config: give the sound speed once: physics.sound_speed (km/s), physics.aspect_ratio (H/R at r0) or "
-                    "physics.viscosity_alpha (nu = alpha c_s H at r0), not two of them");
-  if (c.viscosity_alpha > 0 && !(c.viscosity > 0))
-    throw UserError("config: physics.viscosity_alpha sets the sound speed from the constant physics.viscosity, which is 0; "
-                    "set physics.viscosity > 0 or give physics.aspect_ratio");
+  if (c.sound_speed > 0 && c.aspect_ratio > 0)
+    throw UserError("config: give the sound speed once: physics.sound_speed (km/s) or physics.aspect_ratio (H/R at r0), not both");
+  if (c.alpha_max > 0 && !(c.viscosity > 0))
+    throw UserError("config: physics.alpha_max bounds the alpha of the constant physics.viscosity, which is 0; "
+                    "set physics.viscosity > 0 or physics.alpha_max = 0");
   const bool adiabatic = c.eos == "adiabatic";
   if (adiabatic && !c.evolve_energy)
     throw UserError("config: physics.eos = \"adiabatic\" takes the pressure from each particle's internal energy; set physics.evolve_energy = true");
-  if (adiabatic && (c.sound_speed > 0 || c.aspect_ratio > 0 || c.viscosity_alpha > 0))
+  if (adiabatic && (c.sound_speed > 0 || c.aspect_ratio > 0 || c.alpha_max > 0))
     throw UserError("config: physics.eos = \"adiabatic\" has each particle's own sound speed; set physics.sound_speed, "
-                    "physics.aspect_ratio and physics.viscosity_alpha to 0");
+                    "physics.aspect_ratio and physics.alpha_max to 0");
   if (adiabatic && c.alpha_ss > 0)
     throw UserError("config: physics.alpha_ss needs the sound speed of physics.eos = \"locally_isothermal\" or \"isothermal\", not \"adiabatic\"");
   if (adiabatic && c.initial_conditions.empty() && c.problem != "sedov")
@@ -412,9 +411,9 @@ void check_consistency(const Config& c) {
     throw UserError("config: problem.type = \"sedov\" is a blast wave in an ideal gas: set physics.eos = \"adiabatic\" and physics.evolve_energy = true");
   if (sedov && c.output_times.empty())
     throw UserError("config: a blast wave has neither viscous time nor orbits; give output.times (code units)");
-  if (!adiabatic && c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0 && c.viscosity_alpha <= 0)
+  if (!adiabatic && c.eos != "none" && c.sound_speed <= 0 && c.aspect_ratio <= 0 && c.alpha_max <= 0)
     throw UserError("config: physics.eos = \"" + c.eos + "\" needs physics.sound_speed > 0 (km/s), physics.aspect_ratio > 0 (H/R at r0) "
-                    "or physics.viscosity_alpha > 0");
+                    "or physics.alpha_max > 0");
   if (c.av_alpha > 0 && c.eos == "none")
     throw UserError("config: physics.av_alpha > 0 needs a sound speed for its signal velocity: set physics.eos with "
                     "physics.aspect_ratio or physics.sound_speed");
@@ -423,8 +422,8 @@ void check_consistency(const Config& c) {
                     ", the largest alpha the switch gives; lower physics.av_alpha_min or raise physics.av_alpha");
   if (c.eos == "none" && c.aspect_ratio > 0)
     throw UserError("config: physics.aspect_ratio sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
-  if (c.eos == "none" && c.viscosity_alpha > 0)
-    throw UserError("config: physics.viscosity_alpha sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
+  if (c.eos == "none" && c.alpha_max > 0)
+    throw UserError("config: physics.alpha_max sets the sound speed of an equation of state; set physics.eos = \"locally_isothermal\" or \"isothermal\"");
   if (c.dimension == 3 && c.eos == "none" && c.initial_conditions.empty())
     throw UserError("config: sph.dimension = 3 needs pressure to hold the disc up: set physics.eos = \"locally_isothermal\" and "
                     "physics.aspect_ratio (H/R at r0, e.g. 0.05)");

@@ -31,7 +31,7 @@ struct Config {
   double gamma = 5.0 / 3.0;        // adiabatic index
   double sound_speed = 0.0;        // km/s (isothermal)
   double aspect_ratio = 0;        // H/R at R = r0, instead of sound_speed (0: not given)
-  double viscosity_alpha = 0;     // > 0: the sound speed at r0 from viscosity = alpha c_s H (0: not given)
+  double alpha_max = 0;           // > 0: the sound speed at r0 raised to keep viscosity <= alpha c_s H (0: not used)
   double av_alpha = 0, av_beta = 2;  // artificial viscosity (0: none)
   std::string av_limiter = "balsara";  // balsara | none
   std::string av_switch = "morris_monaghan";  // morris_monaghan | none

@@ -7,13 +7,13 @@
 #   as N at a fixed neighbour number), at a fraction of their cost. Needs tau*/tau 0.92-1.05 and the
 #   L1 within 3x its floor; the conservative form of eq. 6 fails both (measured: tau*/tau 0.895 and
 #   0.565, L1 11x the floor at 16x). Measured 2026-12-04: 0.972 and 0.948 (the default);
-# - the main job's configuration, configs/ring_cold.toml (P98's ring with a weak pressure whose sound
-#   speed follows the viscosity, nu = 2 c_s H at r0, and the scatter density in the force;
-#   docs/validation.md, "What makes the core clump: particles that nothing orders"), at the paper's
-#   viscosity and at 4x and 16x it: the analytic rate within 2% and the L1 within 1.5x its floor.
-#   The gather density (0.966-0.979) and the pressureless scatter density (L1 1.9x) fail them at the
-#   paper's viscosity, and a pressure that does not follow the viscosity (H/R 0.005 at 16x: 0.948) at
-#   16x.
+# - the main job's configuration, configs/ring_cold.toml (P98's ring with a weak pressure, H/R 0.005
+#   at r0 raised where the viscosity would make the disc's alpha exceed 2, and the scatter density in
+#   the force; docs/validation.md, "What makes the core clump: particles that nothing orders"), at
+#   the paper's viscosity and at 4x and 16x it: the analytic rate within 2% and the L1 within 1.5x
+#   its floor. The gather density (0.966-0.979) and the pressureless scatter density (L1 1.9x) fail
+#   them at the paper's viscosity, and a pressure that does not follow the viscosity (H/R 0.005 at
+#   16x: 0.948) at 16x.
 # Usage: ring_spreading_rate.sh SPHDISK WORKDIR [--set ...]
 set -euo pipefail
 exe=$1
