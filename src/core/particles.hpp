@@ -87,8 +87,8 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
 // of the last evaluation that drives its time-dependent switch (physics/viscosity_switch.hpp); last,
 // so that the checkpoints' checksums of the fields before them keep their field indices.
 // scatter_density: sum_j m_j W(r_ij, h_j), self term included (physics/scatter_density.hpp), summed
-// with the velocity gradient and sent to the ghosts with the stress; after
-// compression for the same reason.
+// with the velocity gradient and sent to the ghosts with the stress; after compression for the
+// same reason.
 // h_prev, h_prev2: the particle's two smoothing-length solutions before h, from which the next
 // solve starts (physics/smoothing_length.hpp, predicted_smoothing_length); checkpointed so that a
 // resumed run starts its solves where the uninterrupted one would.
