@@ -32,12 +32,13 @@ struct ScatterDensityScratch {
   std::vector<double> sums;
 };
 
-// The sums' inputs for the m writable particles, zeroed (scratch: every particle's kernel scale);
-// what the list loop reads and writes.
+// The sums' inputs for the m writable particles, zeroed; what the list loop reads and writes.
+// scales: every particle's kernel scale where the caller has them (kernel_scales.hpp), else null and
+// they are made in scratch.
 template <int D>
 ScatterListData<D> prepare_scatter_sums(const Particles<D>& p, std::size_t m, const PhysicsParams& phys,
-                                        ScatterDensityScratch& scratch) {
-  const KernelScale* s = fill_kernel_scales(p, phys.kernel, scratch.scales, "velocity_gradient");
+                                        const KernelScale* scales, ScatterDensityScratch& scratch) {
+  const KernelScale* s = scales ? scales : fill_kernel_scales(p, phys.kernel, scratch.scales, "velocity_gradient");
   grow_snug(scratch.sums, m);
   par::for_each(m, [&](std::size_t i) { scratch.sums[i] = 0.0; }, "velocity_gradient");
   return {p.pos.data(), p.mass.data(), s, scratch.sums.data(), m, phys.kernel};

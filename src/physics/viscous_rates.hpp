@@ -27,7 +27,7 @@ void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const
   const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);
   const auto gradient = sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, d.scales));
   if (phys.keeps_scatter_density()) {
-    const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, scatter);
+    const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, d.scales, scatter);
     pairs.for_each_list_joined(with_scatter_sums(gradient, sd),
                                [&](std::uint32_t i) {
                                  scratch.log_rho[i] = std::log(settle_scatter_density(p, i, sd));

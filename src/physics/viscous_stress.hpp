@@ -173,7 +173,7 @@ void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsPa
   zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
   const auto gradient = sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, s));
   if (phys.keeps_scatter_density()) {
-    const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, scatter);
+    const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, s, scatter);
     pairs.for_each_list(with_scatter_sums(gradient, sd), FactorUse::Read, "velocity_gradient", FarPairs::First);
     par::for_each(m, [&](std::size_t i) { settle_scatter_density(p, i, sd); }, "velocity_gradient");
   } else {
