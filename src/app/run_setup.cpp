@@ -31,6 +31,7 @@ Setup make_setup(const Config& cfg) {
   s.phys.gm = 1.0;
   s.phys.nu = cfg.viscosity * rsun2_per_s;
   s.phys.nu_bulk = cfg.bulk_viscosity * rsun2_per_s;
+  s.phys.bulk_ratio = cfg.bulk_viscosity_ratio;
   s.phys.alpha_ss = cfg.alpha_ss;
   s.phys.eos = eos_from_name(cfg.eos);
   // c_s at r0: given in km/s or as H/R = c_s / v_Kepler(r0), raised where needed to keep nu <= alpha_max c_s^2 /

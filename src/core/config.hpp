@@ -26,6 +26,7 @@ struct Config {
   double central_mass = 1.0;       // solar masses: the mass unit M
   double viscosity = 3e-8;         // kinematic shear viscosity, solar radii^2 / s
   double bulk_viscosity = 0.0;     // kinematic bulk viscosity, solar radii^2 / s
+  double bulk_viscosity_ratio = 0; // > 0: the bulk viscosity as this multiple of the shear viscosity instead
   double alpha_ss = 0;  // > 0: nu = alpha c_s H per particle instead of viscosity (physics_params.hpp)
   std::string eos = "none";        // none | isothermal | locally_isothermal | adiabatic
   double gamma = 5.0 / 3.0;        // adiabatic index

@@ -63,6 +63,7 @@ struct PhysicsParams {
   double nu = 0.0;                // kinematic shear viscosity nu = eta / rho (constant, P98 sec. 3.2)
   double alpha_ss = 0.0;          // > 0: nu = alpha c_s H instead, H = c_s / Omega (shear_viscosity_at)
   double nu_bulk = 0.0;           // kinematic bulk viscosity zeta / rho (P98 eq. 2; zero in the paper)
+  double bulk_ratio = 0.0;        // and on top of it bulk_ratio times the shear viscosity (bulk_viscosity_for)
   EquationOfState eos = EquationOfState::None;  // None: pressureless, as in the ring test (P98 5.2)
   double sound_speed = 0.0;       // c_s (isothermal), or c_s0 at R = r0 = 1 (locally isothermal)
   double sound_speed_index = 0.0; // q of c_s(R) = c_s0 R^-q (locally isothermal)
@@ -155,10 +156,16 @@ double shear_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
   return p.alpha_ss * c * c * std::sqrt(R2 * std::sqrt(R2) / p.gm);
 }
 
+// The kinematic bulk viscosity where the shear viscosity is nu: a constant, plus a multiple of nu
+// (nu_bulk >= 2/3 nu keeps a Keplerian Navier-Stokes disc free of viscous overstability at every
+// wavelength; docs/physics.md sec. 4, "Viscous overstability").
+inline double bulk_viscosity_for(const PhysicsParams& p, double nu) { return p.nu_bulk + p.bulk_ratio * nu; }
+
 // The larger of the shear and bulk viscosities at x: what the viscous step limits read.
 template <int D>
 double largest_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
-  return std::max(shear_viscosity_at(p, x), p.nu_bulk);
+  const double nu = shear_viscosity_at(p, x);
+  return std::max(nu, bulk_viscosity_for(p, nu));
 }
 
 // P at density rho, position x and internal energy u (0 without an equation of state).

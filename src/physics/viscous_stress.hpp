@@ -122,7 +122,7 @@ Mat<D> kinematic_stress(const Mat<D>& V, double nu, const PhysicsParams& phys) {
   Mat<D> S;
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) S(a, b) = nu * (V(a, b) + V(b, a));
-  for (int a = 0; a < D; ++a) S(a, a) += (phys.nu_bulk - 2.0 / 3.0 * nu) * div;
+  for (int a = 0; a < D; ++a) S(a, a) += (bulk_viscosity_for(phys, nu) - 2.0 / 3.0 * nu) * div;
   return S;
 }
 

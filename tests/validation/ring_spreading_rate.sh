@@ -7,13 +7,18 @@
 #   as N at a fixed neighbour number), at a fraction of their cost. Needs tau*/tau 0.92-1.05 and the
 #   L1 within 3x its floor; the conservative form of eq. 6 fails both (measured: tau*/tau 0.895 and
 #   0.565, L1 11x the floor at 16x). Measured 2026-12-04: 0.972 and 0.948 (the default);
-# - the main job's configuration, configs/ring_cold.toml (P98's ring with a weak pressure, H/R 0.005
-#   at r0 raised where the viscosity would make the disc's alpha exceed 2, and the scatter density in
-#   the force; docs/validation.md, "What makes the core clump: particles that nothing orders"), at
-#   the paper's viscosity and at 4x and 16x it: the analytic rate within 2% and the L1 within 1.5x
-#   its floor. The gather density (0.966-0.979) and the pressureless scatter density (L1 1.9x) fail
-#   them at the paper's viscosity, and a pressure that does not follow the viscosity (H/R 0.005 at
-#   16x: 0.948) at 16x.
+# - the main job's configuration, configs/ring_cold.toml (P98's ring with a bulk viscosity equal to
+#   the shear viscosity, the scatter density in the force and a weak pressure, H/R 0.005 at r0 raised
+#   where the viscosity would make the disc's alpha exceed 2; docs/validation.md, "Viscous
+#   overstability: what clumped the core"), at the paper's viscosity and at 4x and 16x it: the
+#   analytic rate within 2% and the L1 within 1.5x its floor (measured 2026-12-06: 0.995, 1.000 and
+#   0.993, L1 0.62, 0.55 and 0.73x). The gather density (0.966-0.979) and the pressureless scatter
+#   density without bulk viscosity (L1 1.9x) fail them at the paper's viscosity, and a pressure that
+#   does not follow the viscosity (H/R 0.005 at 16x: 0.948) at 16x;
+# - the same with half its sound speed, H/R 0.0025, where the viscous overstability of a disc without
+#   bulk viscosity grows fastest among these (docs/physics.md sec. 4, "Viscous overstability"):
+#   measured 2026-12-06, tau*/tau 1.006 and L1 0.65x with the configuration's bulk viscosity,
+#   0.9915 and 2.18x without it.
 # Usage: ring_spreading_rate.sh SPHDISK WORKDIR [--set ...]
 set -euo pipefail
 exe=$1
@@ -21,13 +26,14 @@ work=$2
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$work"
 status=0
-# label, configuration, viscosity over the paper's, tau*/tau range, largest L1 over its floor
-while IFS='|' read -r label config factor lo hi l1_max <&3; do
+# label, configuration, viscosity over the paper's, tau*/tau range, largest L1 over its floor, H/R
+# (empty: the configuration's)
+while IFS='|' read -r label config factor lo hi l1_max aspect <&3; do
   nu=$(awk -v f="$factor" 'BEGIN { printf "%.3e", 3e-8 * f }')
   dir=$work/$label
   "$exe" run "$here/../../configs/$config" -q --overwrite -o "$dir" -t 2 --set problem.particles=30000 \
     --set physics.viscosity="$nu" --set 'output.tau=[0.09]' --set 'integrator.scheme="block"' \
-    --set 'sph.pair_lists="rescan"' "${@:3}" > /dev/null
+    --set 'sph.pair_lists="rescan"' ${aspect:+--set physics.aspect_ratio="$aspect"} "${@:3}" > /dev/null
   "$exe" analyze "$dir/snapshot_001.hdf5" --json "$dir/analysis.json" > /dev/null
   /usr/bin/python3 - "$dir/analysis.json" "$label" "$lo" "$hi" "$l1_max" <<'PY' || status=1
 import json, sys
@@ -40,10 +46,11 @@ print(f"{sys.argv[2]}: tau*/tau = {ratio:.3f} (need {lo}-{hi}), annulus-mass L1 
 sys.exit(0 if ok else 1)
 PY
 done 3<<'CASES'
-viscosity_x4|ring.toml|4|0.92|1.05|3.0
-viscosity_x16|ring.toml|16|0.92|1.05|3.0
-cold|ring_cold.toml|1|0.98|1.02|1.5
-cold_viscosity_x4|ring_cold.toml|4|0.98|1.02|1.5
-cold_viscosity_x16|ring_cold.toml|16|0.98|1.02|1.5
+viscosity_x4|ring.toml|4|0.92|1.05|3.0|
+viscosity_x16|ring.toml|16|0.92|1.05|3.0|
+cold|ring_cold.toml|1|0.98|1.02|1.5|
+cold_viscosity_x4|ring_cold.toml|4|0.98|1.02|1.5|
+cold_viscosity_x16|ring_cold.toml|16|0.98|1.02|1.5|
+cold_thin|ring_cold.toml|1|0.98|1.02|1.5|0.0025
 CASES
 exit $status

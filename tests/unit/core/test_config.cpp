@@ -174,3 +174,11 @@ TEST(Config, AlphaViscosityNeedsASoundSpeedAndOutputTimes) {
                 .find("replaces physics.viscosity"),
             std::string::npos);
 }
+
+TEST(Config, BulkViscosityGivenOnce) {
+  EXPECT_EQ(error_of("[physics]\nbulk_viscosity_ratio = 1.0\n"), "");
+  EXPECT_NE(error_of("[physics]\nbulk_viscosity = 3e-8\nbulk_viscosity_ratio = 1.0\n").find("give the bulk viscosity once"),
+            std::string::npos);
+  EXPECT_NE(error_of("[physics]\nbulk_viscosity_ratio = -1.0\n").find("physics.bulk_viscosity_ratio must be in"),
+            std::string::npos);
+}

@@ -233,39 +233,43 @@ TEST(PressureForce, LocallyIsothermalMatchesTheAnalyticGradient) {
 // Alpha viscosity (physics.alpha_ss): each particle's stress takes nu = alpha c_s(R)^2 / Omega(R),
 // with the locally isothermal c_s(R) = c_s0 R^-q and Omega = (G M / R^3)^(1/2): for a linear
 // velocity field, whose corrected gradient is exact, S_i = nu(R_i) (A + A^T - (2/3) tr A I).
-TEST(VelocityGradient, AlphaViscositySetsEachParticlesStress) {
+// With physics.bulk_viscosity_ratio the bulk viscosity follows each particle's own shear viscosity.
+TEST(VelocityGradient, AlphaViscositySetsEachParticlesStressAndBulkShare) {
   const double A[2][2] = {{0.1, 0.3}, {-0.2, 0.05}};
   const double alpha = 0.01, c0 = 0.05, q = 0.25;
-  Particles<2> p = test::square_lattice(kN, kDx);
-  const std::vector<std::size_t> inner = test::interior(p, kHalf, 2.0 * 1.3 * kDx + 1e-9);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    p.pos[i][0] += 2.0;
-    const Vec<2>& x = p.pos[i];
-    p.vel[i] = Vec<2>{{A[0][0] * x[0] + A[0][1] * x[1], A[1][0] * x[0] + A[1][1] * x[1]}};
+  for (const double bulk_ratio : {0.0, 1.5}) {
+    Particles<2> p = test::square_lattice(kN, kDx);
+    const std::vector<std::size_t> inner = test::interior(p, kHalf, 2.0 * 1.3 * kDx + 1e-9);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      p.pos[i][0] += 2.0;
+      const Vec<2>& x = p.pos[i];
+      p.vel[i] = Vec<2>{{A[0][0] * x[0] + A[0][1] * x[1], A[1][0] * x[0] + A[1][1] * x[1]}};
+    }
+    PhysicsParams phys;
+    phys.gm = 1.0;  // Omega's; the point mass's gravity is left out of the rates below
+    phys.eos = EquationOfState::LocallyIsothermal;
+    phys.sound_speed = c0;
+    phys.sound_speed_index = q;
+    phys.alpha_ss = alpha;
+    phys.bulk_ratio = bulk_ratio;
+    PhaseTimers timers;
+    RateEvaluator<2> rates(KernelType::Cubic, 1.3 * kDx, phys, timers);
+    rates.include_gravity(false);
+    rates.evaluate(p);
+    double worst = 0;
+    for (std::size_t i : inner) {
+      const double R = norm(p.pos[i]);
+      const double nu = alpha * c0 * c0 * std::pow(R, -2.0 * q) * std::pow(R, 1.5);
+      EXPECT_NEAR(shear_viscosity_at(phys, p.pos[i]), nu, 1e-13 * nu);
+      const double trace = A[0][0] + A[1][1];
+      for (int a = 0; a < 2; ++a)
+        for (int c = 0; c < 2; ++c) {
+          const double expected = nu * (A[a][c] + A[c][a] + (a == c ? (bulk_ratio - 2.0 / 3.0) * trace : 0.0));
+          worst = std::max(worst, std::abs(static_cast<double>(p.stress[i](a, c)) - expected) / (nu * 0.5));
+        }
+    }
+    EXPECT_LT(worst, kSinglePrecisionFields ? 1e-6 : 1e-9) << "bulk_ratio " << bulk_ratio;  // (float stress in the single preset)
   }
-  PhysicsParams phys;
-  phys.gm = 1.0;  // Omega's; the point mass's gravity is left out of the rates below
-  phys.eos = EquationOfState::LocallyIsothermal;
-  phys.sound_speed = c0;
-  phys.sound_speed_index = q;
-  phys.alpha_ss = alpha;
-  PhaseTimers timers;
-  RateEvaluator<2> rates(KernelType::Cubic, 1.3 * kDx, phys, timers);
-  rates.include_gravity(false);
-  rates.evaluate(p);
-  double worst = 0;
-  for (std::size_t i : inner) {
-    const double R = norm(p.pos[i]);
-    const double nu = alpha * c0 * c0 * std::pow(R, -2.0 * q) * std::pow(R, 1.5);
-    EXPECT_NEAR(shear_viscosity_at(phys, p.pos[i]), nu, 1e-13 * nu);
-    const double trace = A[0][0] + A[1][1];
-    for (int a = 0; a < 2; ++a)
-      for (int c = 0; c < 2; ++c) {
-        const double expected = nu * (A[a][c] + A[c][a] - (a == c ? 2.0 / 3.0 * trace : 0.0));
-        worst = std::max(worst, std::abs(static_cast<double>(p.stress[i](a, c)) - expected) / (nu * 0.5));
-      }
-  }
-  EXPECT_LT(worst, kSinglePrecisionFields ? 1e-6 : 1e-9);  // (the stress stored as float in the single preset)
 }
 
 // v = (a x^2, b x y): (1/rho) div t = (nu (2a + (2a+b)/3) + nu_b (2a+b), 0)   [eq. 1 with eq. 2]
