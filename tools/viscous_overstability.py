@@ -29,12 +29,17 @@ import numpy as np
 G_CGS, RSUN_CM, MSUN_G = 6.67430e-8, 6.957e10, 1.98841e33
 
 
-def growth_rate(k, nu, nu_b, c, omega=1.0):
-    """Largest real part of s for wavenumber k (all quantities in one unit system)."""
+def rates(k, nu, nu_b, c, omega=1.0):
+    """The three roots s of the linearised equations at wavenumber k (all in one unit system)."""
     m = np.array([[0, -1j * k, 0],
                   [-1j * k * c * c, -(4.0 / 3.0 * nu + nu_b) * k * k, 2 * omega],
                   [-1.5j * k * omega * nu, -0.5 * omega, -nu * k * k]], dtype=complex)
-    return float(np.linalg.eigvals(m).real.max())
+    return np.linalg.eigvals(m)
+
+
+def growth_rate(k, nu, nu_b, c, omega=1.0):
+    """Largest real part of s at wavenumber k."""
+    return float(rates(k, nu, nu_b, c, omega).real.max())
 
 
 def stable_for_all_wavelengths(nu, nu_b):
