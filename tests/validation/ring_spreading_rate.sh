@@ -8,17 +8,17 @@
 #   L1 within 3x its floor; the conservative form of eq. 6 fails both (measured: tau*/tau 0.895 and
 #   0.565, L1 11x the floor at 16x). Measured 2026-12-04: 0.972 and 0.948 (the default);
 # - the main job's configuration, configs/ring_cold.toml (P98's ring with a bulk viscosity equal to
-#   the shear viscosity, the scatter density in the force and a weak pressure, H/R 0.005 at r0 raised
-#   where the viscosity would make the disc's alpha exceed 2; docs/validation.md, "Viscous
-#   overstability: what clumped the core"), at the paper's viscosity and at 4x and 16x it: the
-#   analytic rate within 2% and the L1 within 1.5x its floor (measured 2026-12-06: 0.995, 1.000 and
-#   0.993, L1 0.62, 0.55 and 0.73x). The gather density (0.966-0.979) and the pressureless scatter
+#   the shear viscosity, the scatter density in the force and a weak pressure whose sound speed makes
+#   the disc's alpha 2 at any viscosity; docs/validation.md, "Viscous overstability: what clumped
+#   the core"), at the paper's viscosity and at 4x and 16x it: the
+#   analytic rate within 2% and the L1 within 1.5x its floor (measured 2026-12-06: 1.006, 1.000 and
+#   0.993, L1 0.65, 0.55 and 0.73x). The gather density (0.966-0.979) and the pressureless scatter
 #   density without bulk viscosity (L1 1.9x) fail them at the paper's viscosity, and a pressure that
 #   does not follow the viscosity (H/R 0.005 at 16x: 0.948) at 16x;
-# - the same with half its sound speed, H/R 0.0025, where the viscous overstability of a disc without
-#   bulk viscosity grows fastest among these (docs/physics.md sec. 4, "Viscous overstability"):
-#   measured 2026-12-06, tau*/tau 1.006 and L1 0.65x with the configuration's bulk viscosity,
-#   0.9915 and 2.18x without it.
+# - the same with half its sound speed (alpha 8, H/R 0.0024), where the viscous overstability of a
+#   disc without bulk viscosity grows fastest among these (docs/physics.md sec. 4, "Viscous
+#   overstability"): measured 2026-12-06, tau*/tau 0.993 and L1 0.78x with the configuration's bulk
+#   viscosity, 0.9835 and 2.29x without it (`--set physics.bulk_viscosity_ratio=0`).
 # Usage: ring_spreading_rate.sh SPHDISK WORKDIR [--set ...]
 set -euo pipefail
 exe=$1
@@ -26,14 +26,16 @@ work=$2
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$work"
 status=0
-# label, configuration, viscosity over the paper's, tau*/tau range, largest L1 over its floor, H/R
-# (empty: the configuration's)
-while IFS='|' read -r label config factor lo hi l1_max aspect <&3; do
+# label, configuration, viscosity over the paper's, tau*/tau range, largest L1 over its floor, further
+# settings (KEY=VALUE separated by spaces; empty: none)
+while IFS='|' read -r label config factor lo hi l1_max settings <&3; do
+  extra=()
+  for setting in $settings; do extra+=(--set "$setting"); done
   nu=$(awk -v f="$factor" 'BEGIN { printf "%.3e", 3e-8 * f }')
   dir=$work/$label
   "$exe" run "$here/../../configs/$config" -q --overwrite -o "$dir" -t 2 --set problem.particles=30000 \
     --set physics.viscosity="$nu" --set 'output.tau=[0.09]' --set 'integrator.scheme="block"' \
-    --set 'sph.pair_lists="rescan"' ${aspect:+--set physics.aspect_ratio="$aspect"} "${@:3}" > /dev/null
+    --set 'sph.pair_lists="rescan"' "${extra[@]}" "${@:3}" > /dev/null
   "$exe" analyze "$dir/snapshot_001.hdf5" --json "$dir/analysis.json" > /dev/null
   /usr/bin/python3 - "$dir/analysis.json" "$label" "$lo" "$hi" "$l1_max" <<'PY' || status=1
 import json, sys
@@ -51,6 +53,6 @@ viscosity_x16|ring.toml|16|0.92|1.05|3.0|
 cold|ring_cold.toml|1|0.98|1.02|1.5|
 cold_viscosity_x4|ring_cold.toml|4|0.98|1.02|1.5|
 cold_viscosity_x16|ring_cold.toml|16|0.98|1.02|1.5|
-cold_thin|ring_cold.toml|1|0.98|1.02|1.5|0.0025
+cold_thin|ring_cold.toml|1|0.98|1.02|1.5|physics.alpha_max=8
 CASES
 exit $status
