@@ -9,10 +9,9 @@
 #   0.565, L1 11x the floor at 16x). Measured 2026-12-04: 0.972 and 0.948 (the default);
 # - the main job's configuration, configs/ring_cold.toml (P98's ring with a bulk viscosity equal to
 #   the shear viscosity, the scatter density in the force and a weak pressure whose sound speed makes
-#   the disc's alpha 2 at any viscosity; docs/validation.md, "Viscous overstability: what clumped
-#   the core"), at the paper's viscosity and at 4x and 16x it: the
-#   analytic rate within 2% and the L1 within 1.5x its floor (measured 2026-12-06: 1.006, 1.000 and
-#   0.993, L1 0.65, 0.55 and 0.73x). The gather density (0.966-0.979) and the pressureless scatter
+#   the disc's alpha 2 at any viscosity; docs/validation.md, "A sound speed that follows the
+#   viscosity"), at the paper's viscosity and at 4x and 16x it: the analytic rate within 2% and the
+#   L1 within 1.5x its floor (measured 2026-12-06: 1.006, 1.000 and 0.993, L1 0.65, 0.55 and 0.73x). The gather density (0.966-0.979) and the pressureless scatter
 #   density without bulk viscosity (L1 1.9x) fail them at the paper's viscosity, and a pressure that
 #   does not follow the viscosity (H/R 0.005 at 16x: 0.948) at 16x;
 # - the same with half its sound speed (alpha 8, H/R 0.0024), where the viscous overstability of a
