@@ -94,6 +94,7 @@ void Runner<D>::start() {
   if (global_count() == 0) throw UserError("no particles outside the accretion radius: check the initial conditions");
   rebalance();
   integrator_->start(p_);
+  warn_if_vertically_unresolved();
   check_finite_or_dump();
   while (static_cast<std::size_t>(s_.next_output) < t_out_.size() && t_out_[static_cast<std::size_t>(s_.next_output)] <= s_.time)
     ++s_.next_output;  // outputs before the start are skipped
@@ -129,6 +130,24 @@ void Runner<D>::restart() {
   }
   if (root()) truncate_diagnostics(dir_, s_.step);
   open_diagnostics();
+}
+
+template <int D>
+void Runner<D>::warn_if_vertically_unresolved() {
+  const PhysicsParams& phys = setup_.phys;
+  if (D != 3 || (phys.eos != EquationOfState::Isothermal && phys.eos != EquationOfState::LocallyIsothermal)) return;
+  std::uint64_t taller = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (p_.h[i] > scale_height_at(phys, p_.pos[i])) ++taller;
+  taller = domain_.comm().sum(taller);
+  const std::uint64_t all = global_count();
+  if (root() && 2 * taller > all)
+    run_log::print(stderr,
+                   "sphdisk: warning: the kernels are taller than the disc: h > H = c_s / Omega for %.0f%% of the "
+                   "particles, so its vertical structure is unresolved and its viscous spreading rate not converged "
+                   "(it is from h/H ~ 0.5 on); raise problem.particles (h ~ N^-1/3) or the sound speed "
+                   "(docs/validation.md, \"The rate a ring with pressure should have\")\n",
+                   100.0 * static_cast<double>(taller) / static_cast<double>(all));
 }
 
 template <int D>

@@ -60,6 +60,11 @@ class Runner {
     domain_.rebalance(p_, s_.smoothing_length);
   }
 
+  // A 3D disc whose kernels are taller than its scale height H = c_s / Omega for more than half its
+  // particles at the start: its vertical structure is unresolved and the viscous spreading rate not
+  // converged (docs/validation.md, "The rate a ring with pressure should have"); says so once.
+  void warn_if_vertically_unresolved();
+
   // Removes accreted particles; the tallies are added in particle-ID order, so they do not depend
   // on which rank held which particle (a step may accrete several).
   void accrete_all();

@@ -47,12 +47,12 @@ struct Config {
   std::string gradient_correction = "linear";  // mixed | linear | none (physics/physics_params.hpp, GradientCorrection)
   bool force_correction = false;    // moment-corrected pair gradient in the force (moment_correction.hpp)
   std::string viscous_force = "auto";  // auto | consistent | conservative (physics/physics_params.hpp)
-  // The form viscous_force names: auto is the consistent form with adaptive smoothing lengths in 2D,
-  // and eq. 6's conservative form with one h for all and in 3D (docs/validation.md, "One smoothing
-  // length for all", "The ring with pressure and in 3D").
+  // The form viscous_force names: auto is the consistent form with adaptive smoothing lengths, in 2D
+  // and 3D, and eq. 6's conservative form with one h for all (docs/validation.md, "One smoothing
+  // length for all", "The rate a ring with pressure should have").
   std::string resolved_viscous_force() const {
     if (viscous_force != "auto") return viscous_force;
-    return smoothing == "constant" || dimension == 3 ? "conservative" : "consistent";
+    return smoothing == "constant" ? "conservative" : "consistent";
   }
   std::string pair_density = "summation";    // summation | others | scatter (physics/physics_params.hpp, PairDensity)
   std::string smoothing = "adaptive";  // adaptive | constant (rate_evaluator.hpp)

@@ -145,9 +145,16 @@ double particle_sound_speed(const Particles& p, std::size_t i, const PhysicsPara
   return sound_speed_at(phys, p.pos[i], p.u.empty() ? 0.0 : p.u[i]);
 }
 
+// The disc's scale height at position x: H = c_s / Omega, Omega = (G M / R^3)^(1/2) at the
+// cylindrical radius R.
+template <int D>
+double scale_height_at(const PhysicsParams& p, const Vec<D>& x) {
+  const double R2 = x[0] * x[0] + x[1] * x[1];
+  return sound_speed_at(p, x) * std::sqrt(R2 * std::sqrt(R2) / p.gm);
+}
+
 // The kinematic shear viscosity at position x: the constant nu, or with alpha_ss > 0 the
-// Shakura-Sunyaev nu = alpha c_s H with H = c_s / Omega, Omega = (G M / R^3)^(1/2) at the cylindrical
-// radius R (Phantom's irealvisc = 2; docs/physics.md sec. 1).
+// Shakura-Sunyaev nu = alpha c_s H = alpha c_s^2 / Omega (Phantom's irealvisc = 2; docs/physics.md sec. 1).
 template <int D>
 double shear_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
   if (!(p.alpha_ss > 0)) return p.nu;

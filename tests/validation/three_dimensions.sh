@@ -63,12 +63,14 @@ with h5py.File(sys.argv[1]) as f:
     assert 0.03 < np.sqrt(np.mean(z**2)) < 0.08, np.sqrt(np.mean(z**2))  # H = 0.05 r0 at the ring
 EOF
 
-# The default viscous force conserves angular momentum in 3D: on a thin ring (H/R = 0.005, kernels
+# Eq. 6's conservative form keeps the angular momentum in 3D: on a thin ring (H/R = 0.005, kernels
 # several scale heights tall) the net torque of the first evaluation's accelerations is 0.14% of the
-# particles' own torques (eq. 6's pair forces are not central), under the 1% asked; the consistent
-# form's is 44%.
-"$sphdisk" run "$config" "${args[@]}" --set physics.aspect_ratio=0.005 --set 'output.tau=[0.0185]' -o "$work/thin" > /dev/null
-/usr/bin/python3 - "$work/thin/snapshot_000.hdf5" <<'PYEOF' && ok "3D: no net torque from the default viscous force" || bad "3D: net torque of the SPH forces"
+# particles' own torques (its pair forces are not central), under the 1% asked. The default
+# (consistent) form's is 44% there, falling as the kernels resolve the disc (docs/validation.md),
+# and the run says in one line that they do not.
+thin=(--set physics.aspect_ratio=0.005 --set 'output.tau=[0.0185]')
+"$sphdisk" run "$config" "${args[@]}" "${thin[@]}" --set 'sph.viscous_force="conservative"' -o "$work/thin" > /dev/null 2>&1
+/usr/bin/python3 - "$work/thin/snapshot_000.hdf5" <<'PYEOF' && ok "3D: no net torque from the conservative viscous force" || bad "3D: net torque of the conservative form"
 import sys, h5py, numpy as np
 with h5py.File(sys.argv[1]) as f:
     x = f["PartType0/Coordinates"][:] - f["Header"].attrs["PointMassPosition"]
@@ -77,6 +79,10 @@ torque = m * (x[:, 0] * a[:, 1] - x[:, 1] * a[:, 0])
 print(f"net torque / sum |torque| = {abs(torque.sum()) / np.abs(torque).sum():.2e}")
 assert abs(torque.sum()) < 1e-2 * np.abs(torque).sum()
 PYEOF
+out=$("$sphdisk" run "$config" "${args[@]}" "${thin[@]}" -o "$work/thin_default" 2>&1 > /dev/null)
+if [ "$(printf '%s\n' "$out" | grep -c "warning: the kernels are taller than the disc: h > H")" -eq 1 ]; then
+  ok "3D: one warning that the thin ring's kernels are taller than the disc"
+else bad "3D: no single warning about the thin ring's vertical resolution: $out"; fi
 
 out=$("$sphdisk" analyze "$work/t1/snapshot_002.hdf5")
 if [[ $out == *"spreading rate: best-fit viscous time tau*/tau"* && $out == *"none in 3D"* ]]; then
