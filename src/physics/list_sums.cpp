@@ -433,6 +433,87 @@ template <bool ArtificialViscosity>
   }
   if (ArtificialViscosity && i < d.writable) d.signal_speed[i] = std::max(d.signal_speed[i], signal_i);
 }
+
+// contract(M, v) (core/vec.hpp) of eight pairs: row a is (M_a0 v_0 + M_a1 v_1) + M_a2 v_2.
+[[gnu::target("avx512f"), gnu::always_inline]] inline void contract3(const __m512d M[9], const __m512d v[3], __m512d out[3]) {
+  for (std::size_t a = 0; a < 3; ++a)
+    out[a] = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(M[3 * a], v[0]), _mm512_mul_pd(M[3 * a + 1], v[1])),
+                           _mm512_mul_pd(M[3 * a + 2], v[2]));
+}
+
+// 3D consistent divergence of eq. 6 (consistent_viscous_pair with linear_corrected_gradients and
+// the ln rho_j - ln rho_i that log_rho holds) with the pressure force and its work, no artificial
+// viscosity (force_list_terms<3, true, false, true>, list_sums.hpp), eight partners per round: both
+// particles' terms formed for all eight with the scalar loop's operations in its order, then added
+// pair by pair in list order as the scalar loop adds them (the viscous term, then the pressure's
+// work and force).
+[[gnu::target("avx512f,avx512vl")]] void consistent_pressure_force_list_avx512(const ForceListData<3>& d, std::uint32_t i,
+                                                                               const std::uint32_t* js, const float* F,
+                                                                               std::size_t n, Vec<3>& ai, double& du_i) {
+  static_assert(sizeof(Mat<3, ReducedReal>) == 9 * sizeof(double), "stresses and corrections are read as nine doubles");
+  const double* pos = reinterpret_cast<const double*>(d.pos);
+  const double* vel = reinterpret_cast<const double*>(d.vel);
+  const double* stress = reinterpret_cast<const double*>(d.stress);
+  const double* correction = reinterpret_cast<const double*>(d.correction);
+  __m512d xi[3], vi[3], Si[9], Ci[9];
+  for (int c = 0; c < 3; ++c) xi[c] = _mm512_set1_pd(d.pos[i][c]), vi[c] = _mm512_set1_pd(d.vel[i][c]);
+  for (std::size_t c = 0; c < 9; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]), Ci[c] = _mm512_set1_pd(d.correction[i].c[c]);
+  const __m512d log_rho_i = _mm512_set1_pd(d.log_rho[i]), Vi = _mm512_set1_pd(d.volume[i]);
+  const __m512d mi = _mm512_set1_pd(d.mass[i]), Pr_i = _mm512_set1_pd(d.p_over_rho2[i]);
+  alignas(64) double to_i[3][8], to_j[3][8], press_i[3][8], press_j[3][8], work_i[8], work_j[8];
+  for (std::size_t q = 0; q < n; q += 8) {
+    const Round r = load_round(js, F, q, n);
+    __m512d xj[3], vj[3], Sj[9], Cj[9];
+    load_triples(pos, r.j, xj);
+    load_triples(vel, r.j, vj);
+    load_nines(stress, r.j, Sj);
+    load_nines(correction, r.j, Cj);
+    __m512d g[3], vij[3];
+    for (std::size_t c = 0; c < 3; ++c) {
+      g[c] = _mm512_mul_pd(_mm512_sub_pd(xi[c], xj[c]), r.f);
+      vij[c] = _mm512_sub_pd(vi[c], vj[c]);
+    }
+    const __m512d dl = _mm512_sub_pd(avx512::load_singles(d.log_rho, r.j), log_rho_i);
+    const __m512d Vj = avx512::load_singles(d.volume, r.j);
+    __m512d Gi[3], Gj[3], Xi[9], Xj[9], ti[3], tj[3];
+    contract3(Ci, g, Gi);
+    contract3(Cj, g, Gj);
+    for (std::size_t c = 0; c < 9; ++c) {
+      const __m512d dS = _mm512_sub_pd(Sj[c], Si[c]);
+      Xi[c] = _mm512_add_pd(dS, _mm512_mul_pd(Si[c], dl));
+      Xj[c] = _mm512_add_pd(dS, _mm512_mul_pd(Sj[c], dl));
+    }
+    contract3(Xi, Gi, ti);
+    contract3(Xj, Gj, tj);
+    // pressure_pair, subtracted from a zero f, and pressure_work_pair with vij . g
+    const __m512d mj = avx512::load_singles(d.mass, r.j), Pr_j = avx512::load_singles(d.p_over_rho2, r.j);
+    const __m512d Pr = _mm512_add_pd(Pr_i, Pr_j);
+    for (std::size_t c = 0; c < 3; ++c) {
+      _mm512_store_pd(to_i[c], _mm512_mul_pd(ti[c], Vj));
+      _mm512_store_pd(to_j[c], _mm512_mul_pd(tj[c], Vi));
+      const __m512d f = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(g[c], Pr));
+      _mm512_store_pd(press_i[c], _mm512_mul_pd(f, mj));
+      _mm512_store_pd(press_j[c], _mm512_mul_pd(f, mi));
+    }
+    const __m512d work =
+        _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vij[0], g[0]), _mm512_mul_pd(vij[1], g[1])), _mm512_mul_pd(vij[2], g[2]));
+    _mm512_store_pd(work_i, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
+    _mm512_store_pd(work_j, _mm512_mul_pd(_mm512_mul_pd(Pr_j, mi), work));
+    const std::size_t count = std::min<std::size_t>(8, n - q);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::uint32_t j = js[q + k];
+      const bool writable = j < d.writable;
+      for (int c = 0; c < 3; ++c) ai[c] += to_i[c][k];
+      if (writable)
+        for (int c = 0; c < 3; ++c) d.acc[j][c] += to_j[c][k];
+      du_i += work_i[k];
+      if (writable && d.du_dt) d.du_dt[j] += work_j[k];
+      for (int c = 0; c < 3; ++c) ai[c] += press_i[c][k];
+      if (writable)
+        for (int c = 0; c < 3; ++c) d.acc[j][c] -= press_j[c][k];
+    }
+  }
+}
 #endif
 
 // CubicSpline::w (kernels.hpp) of eight q, its operations in its order:
@@ -545,6 +626,9 @@ void add_force_list(const ForceListData<3>& d, std::uint32_t i, std::span<const 
     if (d.sound_speed) return pressure_force_list_avx512<true>(d, i, js.data(), F.data(), js.size(), ai, du_i);
     return pressure_force_list_avx512<false>(d, i, js.data(), F.data(), js.size(), ai, du_i);
   }
+  if (d.with_pressure && d.consistent && !d.rho_without_self && !d.correction_shift && !d.sound_speed &&
+      vector_isa() == VectorIsa::avx512)
+    return consistent_pressure_force_list_avx512(d, i, js.data(), F.data(), js.size(), ai, du_i);
 #endif
 #endif
   add_force_list_scalar(d, i, js, F, ai, du_i);

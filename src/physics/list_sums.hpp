@@ -289,8 +289,8 @@ void add_force_list_scalar(const ForceListData<D>& d, std::uint32_t i, std::span
 // scalar loop. Gradient: without the mixed correction's sums. Force: in 2D without force correction,
 // eq. 6's conservative form without pressure, and the consistent one with the linear correction and
 // the ln rho of log_rho (summed or scatter densities), with or without pressure but without the
-// artificial viscosity (the rings' cases); in 3D the conservative form with pressure, with or
-// without the artificial viscosity (the disc's case).
+// artificial viscosity (the rings' cases); in 3D with pressure the conservative form, with or
+// without the artificial viscosity, and the consistent one without it (the disc's and 3D ring's cases).
 template <int D>
 void add_gradient_list(const GradientListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                        std::span<const float> F, GradientSums<D>& sum_i);

@@ -361,6 +361,57 @@ TEST(ListSums, PressureForcePathsAgreeIn3D) {
   }
 }
 
+// The consistent divergence with pressure in 3D (the default there with adaptive h): both paths'
+// accelerations and pressure work agree bit for bit, with and without an energy rate to write, and
+// the one-partner list gives the viscous pair term plus the pressure's (one pair by hand).
+TEST(ListSums, ConsistentForceWithPressurePathsAgreeIn3D) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields3 f = random_fields_3d();
+  const Lists l = random_lists();
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Mat<3, ReducedReal>> correction(kParticles);
+  std::vector<double> log_rho(kParticles);
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
+    log_rho[k] = u(rng);
+  }
+  for (const bool energy : {true, false}) {
+    const auto run = [&] {
+      ForceOut3 start;
+      start.a = Vec<3>{{0.25, -0.5, 0.125}};
+      start.du = 0.75;
+      ListResults<ForceOut3> r;
+      std::vector<Vec<3>> acc(kWritable, start.a);
+      std::vector<double> du_dt(kWritable, start.du);
+      for (std::size_t k = 0; k < l.owner.size(); ++k) {
+        ForceListData<3> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
+                           f.p_over_rho2.data(), acc.data(), energy ? du_dt.data() : nullptr, kWritable, true, false};
+        d.log_rho = log_rho.data();
+        d.consistent = true;
+        d.volume = f.volume.data();
+        ForceOut3 own;
+        add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own.a, own.du);
+        r.own.push_back(own);
+      }
+      for (std::size_t j = 0; j < kWritable; ++j) r.stored.push_back({acc[j], du_dt[j], 0.0});
+      return r;
+    };
+    const auto scalar = scalar_after_every_path_agrees(run, energy ? " with energy" : " without energy");
+    EXPECT_NE(scalar.stored[0].a[2], 0.125);
+    EXPECT_EQ(scalar.stored[0].du != 0.75, energy);  // the partners' energy rates only where kept
+    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
+    const Vec<3> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
+    Vec<3> expected = consistent_viscous_pair(as_double(f.stress[i]), as_double(f.stress[j]),
+                                              linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
+                                              log_rho[j] - log_rho[i], f.volume[i], f.volume[j])
+                          .to_i;
+    expected += (Vec<3>{} - pressure_pair(f.p_over_rho2[i], f.p_over_rho2[j], g)) * f.mass[j];
+    EXPECT_EQ(std::memcmp(&scalar.own[1].a, &expected, sizeof expected), 0);
+    EXPECT_EQ(scalar.own[1].du, pressure_work_pair(f.p_over_rho2[i], f.p_over_rho2[j], f.mass[i], f.mass[j], f.vel[i] - f.vel[j], g).to_i);
+  }
+}
+
 // The consistent divergence (the 2D default with adaptive h): both paths' accelerations agree bit
 // for bit, and they are those of the pair function (one pair by hand).
 TEST(ListSums, ConsistentForcePathsAgree) {
