@@ -361,6 +361,24 @@ TEST(ListSums, PressureForcePathsAgreeIn3D) {
   }
 }
 
+namespace {
+
+// What the consistent divergence reads besides the fields: random correction matrices and ln rho.
+template <int D>
+std::pair<std::vector<Mat<D, ReducedReal>>, std::vector<double>> random_consistent_inputs(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Mat<D, ReducedReal>> correction(kParticles);
+  std::vector<double> log_rho(kParticles);
+  for (std::size_t k = 0; k < kParticles; ++k) {
+    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
+    log_rho[k] = u(rng);
+  }
+  return {correction, log_rho};
+}
+
+}  // namespace
+
 // The consistent divergence with pressure in 3D (the default there with adaptive h): both paths'
 // accelerations and pressure work agree bit for bit, with and without an energy rate to write, and
 // the one-partner list gives the viscous pair term plus the pressure's (one pair by hand).
@@ -368,14 +386,7 @@ TEST(ListSums, ConsistentForceWithPressurePathsAgreeIn3D) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields3 f = random_fields_3d();
   const Lists l = random_lists();
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Mat<3, ReducedReal>> correction(kParticles);
-  std::vector<double> log_rho(kParticles);
-  for (std::size_t k = 0; k < kParticles; ++k) {
-    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
-    log_rho[k] = u(rng);
-  }
+  const auto [correction, log_rho] = random_consistent_inputs<3>(23);
   for (const bool energy : {true, false}) {
     const auto run = [&] {
       ForceOut3 start;
@@ -418,14 +429,7 @@ TEST(ListSums, ConsistentForcePathsAgree) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
   const Fields f = random_fields();
   const Lists l = random_lists();
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Mat<2, ReducedReal>> correction(kParticles);
-  std::vector<double> log_rho(kParticles);
-  for (std::size_t k = 0; k < kParticles; ++k) {
-    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
-    log_rho[k] = u(rng);
-  }
+  const auto [correction, log_rho] = random_consistent_inputs<2>(17);
   const auto consistent = [&] {
     return sum_each_list(l, Vec<2>{{0.25, -0.5}}, [&](Vec<2>* acc, std::uint32_t i, const auto& js, const auto& F, Vec<2>& own) {
       ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
