@@ -145,12 +145,17 @@ double particle_sound_speed(const Particles& p, std::size_t i, const PhysicsPara
   return sound_speed_at(phys, p.pos[i], p.u.empty() ? 0.0 : p.u[i]);
 }
 
-// The disc's scale height at position x: H = c_s / Omega, Omega = (G M / R^3)^(1/2) at the
-// cylindrical radius R.
+// 1 / Omega at position x, Omega = (G M / R^3)^(1/2) at the cylindrical radius R.
+template <int D>
+double inverse_orbital_frequency(const PhysicsParams& p, const Vec<D>& x) {
+  const double R2 = x[0] * x[0] + x[1] * x[1];
+  return std::sqrt(R2 * std::sqrt(R2) / p.gm);
+}
+
+// The disc's scale height at position x: H = c_s / Omega.
 template <int D>
 double scale_height_at(const PhysicsParams& p, const Vec<D>& x) {
-  const double R2 = x[0] * x[0] + x[1] * x[1];
-  return sound_speed_at(p, x) * std::sqrt(R2 * std::sqrt(R2) / p.gm);
+  return sound_speed_at(p, x) * inverse_orbital_frequency(p, x);
 }
 
 // The kinematic shear viscosity at position x: the constant nu, or with alpha_ss > 0 the
@@ -158,9 +163,8 @@ double scale_height_at(const PhysicsParams& p, const Vec<D>& x) {
 template <int D>
 double shear_viscosity_at(const PhysicsParams& p, const Vec<D>& x) {
   if (!(p.alpha_ss > 0)) return p.nu;
-  const double R2 = x[0] * x[0] + x[1] * x[1];
   const double c = sound_speed_at(p, x);
-  return p.alpha_ss * c * c * std::sqrt(R2 * std::sqrt(R2) / p.gm);
+  return p.alpha_ss * c * c * inverse_orbital_frequency(p, x);
 }
 
 // The kinematic bulk viscosity where the shear viscosity is nu: a constant, plus a multiple of nu
