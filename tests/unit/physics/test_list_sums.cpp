@@ -302,11 +302,13 @@ ListResults<GradientMoments<3>, GradientSums<3>> gradients_3d(const Fields3& f, 
   });
 }
 
-// What a 3D force list with pressure writes: the acceleration, energy rate and signal speed.
-struct ForceOut3 {
-  Vec<3> a{};
+// What a force list with pressure writes: the acceleration, energy rate and signal speed.
+template <int D>
+struct ForceOut {
+  Vec<D> a{};
   double du = 0.0, signal = 0.0;
 };
+using ForceOut3 = ForceOut<3>;
 
 ListResults<ForceOut3> pressure_forces_3d(const Fields3& f, const Lists& l, bool viscosity, bool limiter) {
   ForceOut3 start;
@@ -377,31 +379,28 @@ std::pair<std::vector<Mat<D, ReducedReal>>, std::vector<double>> random_consiste
   return {correction, log_rho};
 }
 
-}  // namespace
-
-// The consistent divergence with pressure in 3D (the default there with adaptive h): both paths'
-// accelerations and pressure work agree bit for bit, with and without an energy rate to write, and
-// the one-partner list gives the viscous pair term plus the pressure's (one pair by hand).
-TEST(ListSums, ConsistentForceWithPressurePathsAgreeIn3D) {
-  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
-  const Fields3 f = random_fields_3d();
+// The consistent divergence with pressure: both paths' accelerations and pressure work agree bit
+// for bit, with and without an energy rate to write, and the one-partner list gives the viscous pair
+// term plus the pressure's, by the pair functions (one pair by hand).
+template <int D, class FieldsD>
+void check_consistent_force_with_pressure(const FieldsD& f, const std::vector<double>& p_over_rho2, std::uint64_t seed) {
   const Lists l = random_lists();
-  const auto [correction, log_rho] = random_consistent_inputs<3>(23);
+  const auto [correction, log_rho] = random_consistent_inputs<D>(seed);
+  const double initial[3] = {0.25, -0.5, 0.125};  // what the accelerations hold before the sums
+  Vec<D> start_a;
+  for (int c = 0; c < D; ++c) start_a[c] = initial[c];
   for (const bool energy : {true, false}) {
     const auto run = [&] {
-      ForceOut3 start;
-      start.a = Vec<3>{{0.25, -0.5, 0.125}};
-      start.du = 0.75;
-      ListResults<ForceOut3> r;
-      std::vector<Vec<3>> acc(kWritable, start.a);
-      std::vector<double> du_dt(kWritable, start.du);
+      ListResults<ForceOut<D>> r;
+      std::vector<Vec<D>> acc(kWritable, start_a);
+      std::vector<double> du_dt(kWritable, 0.75);
       for (std::size_t k = 0; k < l.owner.size(); ++k) {
-        ForceListData<3> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
-                           f.p_over_rho2.data(), acc.data(), energy ? du_dt.data() : nullptr, kWritable, true, false};
+        ForceListData<D> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
+                           p_over_rho2.data(), acc.data(), energy ? du_dt.data() : nullptr, kWritable, true, false};
         d.log_rho = log_rho.data();
         d.consistent = true;
         d.volume = f.volume.data();
-        ForceOut3 own;
+        ForceOut<D> own;
         add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own.a, own.du);
         r.own.push_back(own);
       }
@@ -409,18 +408,28 @@ TEST(ListSums, ConsistentForceWithPressurePathsAgreeIn3D) {
       return r;
     };
     const auto scalar = scalar_after_every_path_agrees(run, energy ? " with energy" : " without energy");
-    EXPECT_NE(scalar.stored[0].a[2], 0.125);
+    EXPECT_NE(scalar.stored[0].a, start_a);
+    EXPECT_NE(scalar.stored[0].a[D - 1], start_a[D - 1]);
     EXPECT_EQ(scalar.stored[0].du != 0.75, energy);  // the partners' energy rates only where kept
     const std::uint32_t i = l.owner[1], j = l.partners[1][0];
-    const Vec<3> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
-    Vec<3> expected = consistent_viscous_pair(as_double(f.stress[i]), as_double(f.stress[j]),
+    const Vec<D> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
+    Vec<D> expected = consistent_viscous_pair(as_double(f.stress[i]), as_double(f.stress[j]),
                                               linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
                                               log_rho[j] - log_rho[i], f.volume[i], f.volume[j])
                           .to_i;
-    expected += (Vec<3>{} - pressure_pair(f.p_over_rho2[i], f.p_over_rho2[j], g)) * f.mass[j];
+    expected += (Vec<D>{} - pressure_pair(p_over_rho2[i], p_over_rho2[j], g)) * f.mass[j];
     EXPECT_EQ(std::memcmp(&scalar.own[1].a, &expected, sizeof expected), 0);
-    EXPECT_EQ(scalar.own[1].du, pressure_work_pair(f.p_over_rho2[i], f.p_over_rho2[j], f.mass[i], f.mass[j], f.vel[i] - f.vel[j], g).to_i);
+    EXPECT_EQ(scalar.own[1].du, pressure_work_pair(p_over_rho2[i], p_over_rho2[j], f.mass[i], f.mass[j], f.vel[i] - f.vel[j], g).to_i);
   }
+}
+
+}  // namespace
+
+// The consistent divergence with pressure in 3D (the default there with adaptive h).
+TEST(ListSums, ConsistentForceWithPressurePathsAgreeIn3D) {
+  if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
+  const Fields3 f = random_fields_3d();
+  check_consistent_force_with_pressure<3>(f, f.p_over_rho2, 23);
 }
 
 // The consistent divergence (the 2D default with adaptive h): both paths' accelerations agree bit
@@ -452,66 +461,14 @@ TEST(ListSums, ConsistentForcePathsAgree) {
   EXPECT_EQ(std::memcmp(&scalar.own[1], &expected, sizeof expected), 0);
 }
 
-namespace {
-
-// What a 2D force list with pressure writes: the acceleration and the energy rate.
-struct ForceOut2 {
-  Vec<2> a{};
-  double du = 0.0;
-};
-
-}  // namespace
-
-// The consistent divergence with pressure (the cold ring, configs/ring_cold.toml): both paths'
-// accelerations and pressure work agree bit for bit, with and without an energy rate to write, and
-// the pressure's pair terms are those of the pair functions (one pair by hand).
+// The consistent divergence with pressure in 2D (the cold ring, configs/ring_cold.toml).
 TEST(ListSums, ConsistentForceWithPressurePathsAgree) {
   if (test::vector_paths().empty()) GTEST_SKIP() << "this CPU has neither AVX2 nor AVX-512: only the scalar path runs";
-  const Fields f = random_fields();
-  const Lists l = random_lists();
   std::mt19937_64 rng(19);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), positive(0.5, 2.0);
-  std::vector<Mat<2, ReducedReal>> correction(kParticles);
-  std::vector<double> log_rho(kParticles), p_over_rho2(kParticles);
-  for (std::size_t k = 0; k < kParticles; ++k) {
-    for (auto& c : correction[k].c) c = static_cast<ReducedReal>(u(rng));
-    log_rho[k] = u(rng);
-    p_over_rho2[k] = positive(rng);
-  }
-  for (const bool energy : {true, false}) {
-    const auto run = [&] {
-      const ForceOut2 start{Vec<2>{{0.25, -0.5}}, 0.75};
-      ListResults<ForceOut2> r;
-      std::vector<Vec<2>> acc(kWritable, start.a);
-      std::vector<double> du_dt(kWritable, start.du);
-      for (std::size_t k = 0; k < l.owner.size(); ++k) {
-        ForceListData<2> d{f.pos.data(), f.vel.data(), f.stress.data(), correction.data(), f.mass.data(), f.inv_rho.data(),
-                           p_over_rho2.data(), acc.data(), energy ? du_dt.data() : nullptr, kWritable, true, false};
-        d.log_rho = log_rho.data();
-        d.consistent = true;
-        d.volume = f.volume.data();
-        ForceOut2 own;
-        add_force_list(d, l.owner[k], l.partners[k], l.factors[k], own.a, own.du);
-        r.own.push_back(own);
-      }
-      for (std::size_t j = 0; j < kWritable; ++j) r.stored.push_back({acc[j], du_dt[j]});
-      return r;
-    };
-    const auto scalar = scalar_after_every_path_agrees(run, energy ? " with energy" : " without energy");
-    EXPECT_NE(scalar.stored[0].a, (Vec<2>{{0.25, -0.5}}));
-    EXPECT_EQ(scalar.stored[0].du != 0.75, energy);  // the partners' energy rates only where kept
-    // Not vacuous: the one-partner list gives the viscous pair term plus the pressure's.
-    const std::uint32_t i = l.owner[1], j = l.partners[1][0];
-    const Vec<2> g = kernel_gradient(f.pos[i] - f.pos[j], static_cast<double>(l.factors[1][0]));
-    const Mat<2> Si = as_double(f.stress[i]), Sj = as_double(f.stress[j]);
-    Vec<2> expected = consistent_viscous_pair(Si, Sj, linear_corrected_gradients(as_double(correction[i]), as_double(correction[j]), g),
-                                              log_rho[j] - log_rho[i], f.volume[i], f.volume[j])
-                          .to_i;
-    expected += (Vec<2>{} - pressure_pair(p_over_rho2[i], p_over_rho2[j], g)) * f.mass[j];
-    EXPECT_EQ(std::memcmp(&scalar.own[1].a, &expected, sizeof expected), 0);
-    const double work = pressure_work_pair(p_over_rho2[i], p_over_rho2[j], f.mass[i], f.mass[j], f.vel[i] - f.vel[j], g).to_i;
-    EXPECT_EQ(scalar.own[1].du, work);
-  }
+  std::uniform_real_distribution<double> positive(0.5, 2.0);
+  std::vector<double> p_over_rho2(kParticles);
+  for (double& x : p_over_rho2) x = positive(rng);
+  check_consistent_force_with_pressure<2>(random_fields(), p_over_rho2, 19);
 }
 
 // The scatter density's pair terms (the cold ring's extra loop): both paths' sums agree bit for bit
