@@ -1,5 +1,6 @@
 #include "app/ring_analysis.hpp"
 #include "app/radial_motion.hpp"
+#include "app/rate_sampling_scatter.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +29,7 @@ double annulus_area(const RingBin& b) { return std::numbers::pi * (b.r_hi * b.r_
 
 }  // namespace
 
-RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max) {
+RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max, int rate_draws) {
   if (!(meta.tau > 0) || !(meta.viscosity > 0) || !(meta.disc_mass > 0))
     throw UserError("snapshot lacks ViscousTime/KinematicViscosity/DiskMass > 0: not a ring run, cannot compare with the analytic solution");
   const RingSolution sol{meta.disc_mass, meta.ring_radius, meta.viscosity};
@@ -139,6 +140,7 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   const auto fine = best_in(coarse.first - 0.005 * c.tau, coarse.first + 0.005 * c.tau, 20);
   c.tau_fit = fine.first;
   c.mass_sigma_l1_at_fit = fine.second;
+  c.rate_sampling_sd = rate_sampling_scatter(sol, c.bins, c.tau, p.size(), rate_draws);
   double vnum = 0, dnum = 0, vden = 0;
   for (const RingBin& b : c.bins)
     if (b.count > 0 && std::abs(b.vr_ana) >= 0.2 * vmax) {
@@ -174,10 +176,11 @@ std::string ring_comparison_table(const RingComparison& c) {
   const double floor_ratio = c.sampling_floor > 0 ? c.mass_sigma_l1 / c.sampling_floor : 0.0;
   std::snprintf(line, sizeof line,
                 "# tau = %.5f  N = %zu  mass = %.6e  accreted = %.6e\n"
-                "spreading rate: best-fit viscous time tau*/tau = %.4f (1 = the analytic rate)\n"
+                "spreading rate: best-fit viscous time tau*/tau = %.4f (1 = the analytic rate; %zu particles drawn at random "
+                "from the exact profile scatter it by %.4f, 1 sd)\n"
                 "mass profile: annulus-mass L1 %.4f = %.2fx the sampling floor %.4f of %zu random particles drawn from "
                 "the exact profile (L1 %.4f against the profile at tau*)\n",
-                c.tau, c.particles, c.mass, c.accreted_mass, rate, c.mass_sigma_l1, floor_ratio, c.sampling_floor,
+                c.tau, c.particles, c.mass, c.accreted_mass, rate, c.particles, c.rate_sampling_sd, c.mass_sigma_l1, floor_ratio, c.sampling_floor,
                 c.particles, c.mass_sigma_l1_at_fit);
   os << line;
   if (c.initial_mass > 0) {
@@ -250,6 +253,7 @@ std::string ring_comparison_json(const RingComparison& c) {
      << ",\n  \"accreted_mass\": " << c.accreted_mass << ",\n  \"initial_mass\": " << c.initial_mass << ",\n  \"sigma_l1\": " << sph(c.sigma_l1)
      << ",\n  \"mass_sigma_l1\": " << c.mass_sigma_l1 << ",\n  \"sampling_floor\": " << c.sampling_floor
      << ",\n  \"tau_fit\": " << c.tau_fit << ",\n  \"mass_sigma_l1_at_fit\": " << c.mass_sigma_l1_at_fit
+     << ",\n  \"rate_sampling_sd\": " << c.rate_sampling_sd
      << ",\n  \"vr_l1\": " << c.vr_l1
      << ",\n  \"vr_drift_l1\": " << c.vr_drift_l1 << ",\n  \"sigma_scatter\": " << sph(c.sigma_scatter)
      << ",\n  \"core_sigma_bias\": " << sph(c.core_sigma_bias) << ",\n  \"core_sigma_noself_bias\": " << sph(c.core_sigma_noself_bias)

@@ -48,6 +48,8 @@ struct RingComparison {
   double tau_fit = 0;          // viscous time whose analytic annulus means fit the binned mass best
                                // (least mass_sigma_l1); tau_fit / tau < 1: the ring spread too slowly
   double mass_sigma_l1_at_fit = 0;  // mass_sigma_l1 against the profile at tau_fit
+  double rate_sampling_sd = 0;  // standard deviation of tau_fit / tau for N particles drawn at random
+                                // from the exact profile (rate_sampling_scatter.hpp): the noise of the rate
   // mass_sigma_l1 and sampling_floor split over the inner wing, the core and the outer wing: where a
   // front or a deficit lies, against where the sampling noise alone would put the error.
   std::vector<RegionL1> regions{
@@ -63,8 +65,9 @@ struct RingComparison {
   double initial_mass = 0;      // the disc mass at the start (Header DiskMass; 0: not recorded)
 };
 
+// rate_draws: the random particle sets behind rate_sampling_sd (0: none, the figure left at 0).
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0.05,
-                            double r_max = 2.05);
+                            double r_max = 2.05, int rate_draws = 200);
 
 // The binned mass's L1 against the analytic annulus means at viscous time tau (as mass_sigma_l1).
 double annulus_mass_l1(const RingComparison& c, const RingSolution& sol, double tau);
