@@ -66,10 +66,13 @@ struct Config {
   double dt_max = 0;               // code units; 0: no limit
   std::string viscous_update = "auto";  // auto | explicit | super_steps (integrate/integrator.hpp, ViscousUpdate)
   int max_stages = 16;             // super_steps: most Runge-Kutta-Legendre stages per step
-  // The update viscous_update names: auto is super_steps where they apply (block steps, no pressure).
+  // The update viscous_update names: auto is super_steps for block steps with a constant viscosity,
+  // with or without an isothermal pressure (block steps refuse the adiabatic one); explicit kicks
+  // with the alpha viscosity, whose h^2 / nu limit does not bind while h > 3 alpha H, and with an
+  // artificial viscosity, whose rates are not linear in the velocities (docs/design.md).
   std::string resolved_viscous_update() const {
     if (viscous_update != "auto") return viscous_update;
-    return scheme == "block" && eos == "none" ? "super_steps" : "explicit";
+    return scheme == "block" && alpha_ss == 0 && av_alpha == 0 ? "super_steps" : "explicit";
   }
   // [output]
   std::vector<double> output_tau = {0.036, 0.054, 0.072, 0.090, 0.126};

@@ -182,3 +182,16 @@ TEST(Config, BulkViscosityGivenOnce) {
   EXPECT_NE(error_of("[physics]\nbulk_viscosity_ratio = -1.0\n").find("physics.bulk_viscosity_ratio must be in"),
             std::string::npos);
 }
+
+TEST(Config, AutoViscousUpdateIsSuperStepsForBlockStepsWithAConstantViscosity) {
+  auto update = [](const std::string& text) { return parse_config(text, "test.toml", {}).resolved_viscous_update(); };
+  const std::string block = "[integrator]\nscheme = \"block\"\n";
+  EXPECT_EQ(update(block), "super_steps");  // pressureless
+  EXPECT_EQ(update(block + "[physics]\neos = \"locally_isothermal\"\nsound_speed = 20.0\n"), "super_steps");
+  EXPECT_EQ(update(block + "[physics]\neos = \"isothermal\"\nsound_speed = 20.0\nav_alpha = 1.0\n"), "explicit");
+  EXPECT_EQ(update(block + "[physics]\neos = \"locally_isothermal\"\nsound_speed = 20.0\nviscosity = 0.0\nalpha_ss = 0.01\n"
+                           "[output]\norbits = [1.0]\n"),
+            "explicit");
+  EXPECT_EQ(update("[integrator]\nscheme = \"leapfrog\"\n"), "explicit");
+  EXPECT_EQ(update(block + "viscous_update = \"explicit\"\n[physics]\neos = \"isothermal\"\nsound_speed = 20.0\n"), "explicit");
+}
