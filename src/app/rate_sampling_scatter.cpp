@@ -2,22 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include "app/ring_analysis.hpp"
+#include "core/portable_random.hpp"
 
 namespace sphdisk {
 
 namespace {
-
-// Uniform double in [0, 1) from the top 53 bits, and a standard normal number (Box-Muller): no
-// std:: distributions, whose algorithms are implementation-defined.
-double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
-double standard_normal(std::mt19937_64& g) {
-  const double u1 = uniform01(g), u2 = uniform01(g);
-  return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * std::numbers::pi * u2);
-}
 
 // A binomial (n, p) number: by inversion where n p < 30 (the wings' bins), else the normal
 // approximation rounded to the nearest count (the core's bins, thousands of particles each).
@@ -36,11 +28,10 @@ std::size_t binomial(std::size_t n, double p, std::mt19937_64& g) {
     }
     return k;
   }
-  const double k = std::round(mean + std::sqrt(mean * (1.0 - p)) * standard_normal(g));
+  const double u1 = uniform01(g);
+  const double k = std::round(mean + std::sqrt(mean * (1.0 - p)) * standard_normal(u1, uniform01(g)));
   return static_cast<std::size_t>(std::clamp(k, 0.0, dn));
 }
-
-double annulus_area(const RingBin& b) { return std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo); }
 
 }  // namespace
 
@@ -49,7 +40,7 @@ double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>
   if (particles == 0 || bins.empty() || !(tau > 0) || draws < 2) return 0.0;
   std::vector<double> share(bins.size());
   double bins_mass = 0;
-  for (std::size_t b = 0; b < bins.size(); ++b) bins_mass += share[b] = bins[b].sigma_ana_annulus * annulus_area(bins[b]);
+  for (std::size_t b = 0; b < bins.size(); ++b) bins_mass += share[b] = bins[b].sigma_ana_annulus * bins[b].area();
   if (!(bins_mass > 0)) return 0.0;
   for (double& s : share) s /= bins_mass;
   // The analytic annulus means at tau (0.5 + 0.0005 i), i = 0 .. 2000: the fit's two grids, each
@@ -81,7 +72,7 @@ double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>
       const std::size_t n = binomial(left, share_left > 0 ? std::min(share[b] / share_left, 1.0) : 0.0, gen);
       left -= n;
       share_left -= share[b];
-      sigma[b] = static_cast<double>(n) * (bins_mass / static_cast<double>(particles)) / annulus_area(bins[b]);
+      sigma[b] = static_cast<double>(n) * (bins_mass / static_cast<double>(particles)) / bins[b].area();
     }
     const int coarse = best_in(0, kFine, 10, sigma);
     const int fine = best_in(std::max(coarse - 10, 0), std::min(coarse + 10, kFine), 1, sigma);

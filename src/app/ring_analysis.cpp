@@ -25,8 +25,6 @@ double self_weight(const SnapshotMeta& meta) {
   return with_kernel(kernel_from_name(name), [](auto k) { return KernelAt<decltype(k), 2>(1.0).W(0.0); });
 }
 
-double annulus_area(const RingBin& b) { return std::numbers::pi * (b.r_hi * b.r_hi - b.r_lo * b.r_lo); }
-
 }  // namespace
 
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins, double r_min, double r_max, int rate_draws) {
@@ -85,7 +83,7 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   c.core_sigma_noself_bias = ncore ? core_noself / static_cast<double>(ncore) : 0.0;
   double num = 0, den = 0, vmax = 0, mnum = 0, mden = 0;
   for (RingBin& b : c.bins) {
-    b.sigma_mass /= annulus_area(b);
+    b.sigma_mass /= b.area();
     b.sigma_ana_annulus = sol.annulus_mean_surface_density(b.r_lo, b.r_hi, c.tau);
     mnum += std::abs(b.sigma_mass - b.sigma_ana_annulus);
     mden += b.sigma_ana_annulus;
@@ -106,11 +104,11 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   // Sampling floor: bin b's count is binomial (N, p_b), p_b its share of the analytic mass in the
   // bins, so E|n_b - N p_b| ~ sqrt(2 N p_b (1 - p_b) / pi) particles of mass M / N.
   double bins_mass = 0;
-  for (const RingBin& b : c.bins) bins_mass += b.sigma_ana_annulus * annulus_area(b);
+  for (const RingBin& b : c.bins) bins_mass += b.sigma_ana_annulus * b.area();
   const double n_total = static_cast<double>(p.size());
   double floor_num = 0;
   for (const RingBin& b : c.bins) {
-    const double area = annulus_area(b);
+    const double area = b.area();
     const double share = bins_mass > 0 ? b.sigma_ana_annulus * area / bins_mass : 0.0;
     const double noise = bins_mass > 0 && n_total > 0
                              ? std::sqrt(2.0 * n_total * share * (1.0 - share) / std::numbers::pi) * (bins_mass / n_total) / area

@@ -3,6 +3,7 @@
 // surface densities averaged in radial bins (50 over 0.05 - 2.05 r0 by default), binned radial
 // velocity, per-particle scatter and L1 errors.
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct RingBin {
   double vr_drift = 0;    // mean guiding-centre drift 2 j (dj/dt) / (G M): v_r without epicycles
   double sigma_mass = 0;       // particle mass in the annulus / its area
   double sigma_ana_annulus = 0;  // analytic annulus mean of Sigma
+  double area() const { return std::numbers::pi * (r_hi * r_hi - r_lo * r_lo); }
 };
 
 // The annulus-mass L1 and the sampling floor from one radial region's bins (both in the units of

@@ -9,20 +9,13 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/portable_random.hpp"
 
 namespace sphdisk {
 
 namespace {
 
 constexpr std::size_t kGrid = 200000;  // radial grid points of the tabulated CDF
-
-// Uniform double in [0, 1) from the top 53 bits: the same on every platform.
-double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
-
-// A standard normal number from two uniforms (Box-Muller, cosine branch).
-double standard_normal(double u1, double u2) {
-  return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * std::numbers::pi * u2);
-}
 
 double sound_speed_at_radius(const DiscSampling& s, double R) { return s.placement.sound_speed * std::pow(R, -s.placement.sound_speed_index); }
 
