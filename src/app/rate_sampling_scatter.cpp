@@ -5,6 +5,7 @@
 #include <random>
 
 #include "app/ring_analysis.hpp"
+#include "app/ring_fit.hpp"
 #include "core/portable_random.hpp"
 
 namespace sphdisk {
@@ -35,7 +36,7 @@ std::size_t binomial(std::size_t n, double p, std::mt19937_64& g) {
 
 }  // namespace
 
-double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>& bins, double tau, std::size_t particles,
+double rate_sampling_scatter(RingFitGrid& grid, const std::vector<RingBin>& bins, double tau, std::size_t particles,
                              int draws, std::uint64_t seed) {
   if (particles == 0 || bins.empty() || !(tau > 0) || draws < 2) return 0.0;
   std::vector<double> share(bins.size());
@@ -43,25 +44,6 @@ double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>
   for (std::size_t b = 0; b < bins.size(); ++b) bins_mass += share[b] = bins[b].sigma_ana_annulus * bins[b].area();
   if (!(bins_mass > 0)) return 0.0;
   for (double& s : share) s /= bins_mass;
-  // The analytic annulus means at tau (0.5 + 0.0005 i), i = 0 .. 2000: the fit's two grids, each
-  // profile computed when a draw first needs it.
-  constexpr int kFine = 2000;
-  std::vector<std::vector<double>> profiles(kFine + 1);
-  auto l1_at = [&](int i, const std::vector<double>& sigma) {
-    std::vector<double>& ana = profiles[static_cast<std::size_t>(i)];
-    if (ana.empty())
-      for (const RingBin& b : bins) ana.push_back(sol.annulus_mean_surface_density(b.r_lo, b.r_hi, tau * (0.5 + 0.0005 * i)));
-    double num = 0, den = 0;
-    for (std::size_t b = 0; b < bins.size(); ++b) num += std::abs(sigma[b] - ana[b]), den += ana[b];
-    return den > 0 ? num / den : 0.0;
-  };
-  auto best_in = [&](int lo, int hi, int stride, const std::vector<double>& sigma) {
-    int best = lo;
-    double best_l1 = l1_at(lo, sigma);
-    for (int i = lo + stride; i <= hi; i += stride)
-      if (const double l1 = l1_at(i, sigma); l1 < best_l1) best = i, best_l1 = l1;
-    return best;
-  };
   std::mt19937_64 gen(seed);
   std::vector<double> sigma(bins.size());
   double sum = 0, sum_sq = 0;
@@ -74,9 +56,7 @@ double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>
       share_left -= share[b];
       sigma[b] = static_cast<double>(n) * (bins_mass / static_cast<double>(particles)) / bins[b].area();
     }
-    const int coarse = best_in(0, kFine, 10, sigma);
-    const int fine = best_in(std::max(coarse - 10, 0), std::min(coarse + 10, kFine), 1, sigma);
-    const double rate = 0.5 + 0.0005 * fine;
+    const double rate = grid.fit(sigma).first / tau;
     sum += rate, sum_sq += rate * rate;
   }
   const double mean = sum / draws;

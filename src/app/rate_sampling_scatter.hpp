@@ -8,18 +8,17 @@
 #include <cstdint>
 #include <vector>
 
-#include "problems/ring_analytic.hpp"
 
 namespace sphdisk {
 
 struct RingBin;
+class RingFitGrid;
 
 // The standard deviation of tau*/tau over `draws` sets of `particles` particles drawn from the
 // analytic profile at tau into `bins` (multinomial counts over the bins' shares of the analytic
-// mass, as the sampling floor assumes), each fitted as compare_ring fits a run: the least
-// annulus-mass L1 over 0.5-1.5 tau in steps of 0.005 tau, then 0.0005 tau around the best. A fixed
-// seed: the same figure for the same snapshot on any machine.
-double rate_sampling_scatter(const RingSolution& sol, const std::vector<RingBin>& bins, double tau, std::size_t particles,
+// mass, as the sampling floor assumes), each fitted on `grid` as compare_ring fits the run
+// (ring_fit.hpp). A fixed seed: the same figure for the same snapshot on any machine.
+double rate_sampling_scatter(RingFitGrid& grid, const std::vector<RingBin>& bins, double tau, std::size_t particles,
                              int draws = 200, std::uint64_t seed = 1);
 
 }  // namespace sphdisk

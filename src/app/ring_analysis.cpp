@@ -1,12 +1,14 @@
 #include "app/ring_analysis.hpp"
 #include "app/radial_motion.hpp"
 #include "app/rate_sampling_scatter.hpp"
+#include "app/ring_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "physics/kernels.hpp"
@@ -122,23 +124,12 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
       }
   }
   c.sampling_floor = mden > 0 ? floor_num / mden : 0.0;
-  // Best-fit viscous time: a scan of 0.5-1.5 tau in steps of 0.005 tau, then of the step around the
-  // best in steps of 0.0005 tau (the L1 is piecewise smooth in tau; the grids make the result exact
-  // to 0.0005 tau and reproducible).
-  auto best_in = [&](double lo, double hi, int steps) {
-    double best = lo, best_l1 = annulus_mass_l1(c, sol, lo);
-    for (int k = 1; k <= steps; ++k) {
-      const double t = lo + (hi - lo) * k / steps;
-      const double l1 = annulus_mass_l1(c, sol, t);
-      if (l1 < best_l1) best = t, best_l1 = l1;
-    }
-    return std::pair{best, best_l1};
-  };
-  const auto coarse = best_in(0.5 * c.tau, 1.5 * c.tau, 200);
-  const auto fine = best_in(coarse.first - 0.005 * c.tau, coarse.first + 0.005 * c.tau, 20);
-  c.tau_fit = fine.first;
-  c.mass_sigma_l1_at_fit = fine.second;
-  c.rate_sampling_sd = rate_sampling_scatter(sol, c.bins, c.tau, p.size(), rate_draws);
+  // Best-fit viscous time (ring_fit.hpp) and how much N random particles would scatter it.
+  std::vector<double> binned(c.bins.size());
+  for (std::size_t b = 0; b < c.bins.size(); ++b) binned[b] = c.bins[b].sigma_mass;
+  RingFitGrid grid(sol, c.bins, c.tau);
+  std::tie(c.tau_fit, c.mass_sigma_l1_at_fit) = grid.fit(binned);
+  c.rate_sampling_sd = rate_sampling_scatter(grid, c.bins, c.tau, p.size(), rate_draws);
   double vnum = 0, dnum = 0, vden = 0;
   for (const RingBin& b : c.bins)
     if (b.count > 0 && std::abs(b.vr_ana) >= 0.2 * vmax) {
@@ -152,16 +143,6 @@ RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int
   c.vr_l1 = vden > 0 ? vnum / vden : 0.0;
   c.vr_drift_l1 = vden > 0 ? dnum / vden : 0.0;
   return c;
-}
-
-double annulus_mass_l1(const RingComparison& c, const RingSolution& sol, double tau) {
-  double num = 0, den = 0;
-  for (const RingBin& b : c.bins) {
-    const double ana = sol.annulus_mean_surface_density(b.r_lo, b.r_hi, tau);
-    num += std::abs(b.sigma_mass - ana);
-    den += ana;
-  }
-  return den > 0 ? num / den : 0.0;
 }
 
 // The figures that judge a run (spreading rate, mass profile against its sampling floor, mass

@@ -71,9 +71,6 @@ struct RingComparison {
 RingComparison compare_ring(const Particles<2>& p, const SnapshotMeta& meta, int nbins = 50, double r_min = 0.05,
                             double r_max = 2.05, int rate_draws = 200);
 
-// The binned mass's L1 against the analytic annulus means at viscous time tau (as mass_sigma_l1).
-double annulus_mass_l1(const RingComparison& c, const RingSolution& sol, double tau);
-
 std::string ring_comparison_table(const RingComparison& c);
 std::string ring_comparison_json(const RingComparison& c);
 
