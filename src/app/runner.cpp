@@ -326,9 +326,12 @@ RunSummary Runner<D>::advance() {
       // the order is kept.
       if (rates_.lean()) rates_.release_rebuilt_memory();
       const std::vector<std::uint32_t> order = std::move(build_cell_grid(p_.pos, p_.id, 2.0 * h).sorted);
-      // The copies in parallel (serial, the other threads waited); exact-size copies, not a copy
-      // back into each field (par::permute_prefix), which would raise the peak memory.
-      p_.gather(order, [](std::size_t n, const auto& f) { par::for_each(n, f, "reorder", 4096); });
+      // Each field rearranged in place through one scratch of the widest field's size (on huge
+      // pages): no field is allocated, zero-filled and faulted in afresh on the main thread alone.
+      std::size_t widest = 0;
+      p_.for_each_field([&widest](const FieldInfo&, const auto& v) { widest = std::max(widest, sizeof(v[0])); });
+      UnsetVector<std::byte> scratch(order.size() * widest);
+      p_.for_each_field([&](const FieldInfo&, auto& v) { par::permute_prefix(v, order, scratch, "reorder"); });
     }
     advance_.updates_at_step = rates_.particle_updates();
     advance_.particles = distributed() ? global_count() : p_.size();

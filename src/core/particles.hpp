@@ -209,22 +209,15 @@ struct Particles {
   }
 
   // new[i] = old[order[i]] for every field (order is a permutation or a selection of indices),
-  // each field replaced by an exact-size copy. loop(n, f) calls f(i) for every i < n. Serial by
-  // default: it also runs in the child process that reads a checkpoint (io/hdf5_util.hpp forks to
-  // isolate library crashes), where an OpenMP loop would wait for threads that do not exist there;
-  // the run's reorder passes a parallel loop (app/simulation.cpp). The block integrator's
-  // frequent moves of a prefix use par::permute_prefix field by field.
-  template <class Loop>
-  void gather(const std::vector<std::uint32_t>& order, Loop&& loop) {
-    for_each_field([&order, &loop](const FieldInfo&, auto& v) {
-      std::remove_reference_t<decltype(v)> out(order.size());
-      loop(order.size(), [&](std::size_t i) { out[i] = v[order[i]]; });
-      v.swap(out);
-    });
-  }
+  // each field replaced by an exact-size copy. Serial: it also runs in the child process that reads
+  // a checkpoint (io/hdf5_util.hpp forks to isolate library crashes), where an OpenMP loop would
+  // wait for threads that do not exist there. The run's reorder rearranges each field in place
+  // with par::permute_prefix (app/runner.cpp), as the block integrator's moves of a prefix do.
   void gather(const std::vector<std::uint32_t>& order) {
-    gather(order, [](std::size_t n, const auto& f) {
-      for (std::size_t i = 0; i < n; ++i) f(i);
+    for_each_field([&order](const FieldInfo&, auto& v) {
+      std::remove_reference_t<decltype(v)> out(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i) out[i] = v[order[i]];
+      v.swap(out);
     });
   }
 

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <span>
 #include <type_traits>
 #include <string_view>
 #include <thread>
@@ -51,20 +52,27 @@ void for_each(std::size_t n, F&& f, std::string_view trace_label = {}, int grain
 #endif
 }
 
-// v[to(k)] = old v[from[k]] for k < from.size() (to: a permutation of the positions in from).
-// The moved values pass through raw memory: a std::vector<T> of them would first be zero-filled, on
-// this thread alone; through an UnsetVector, so that the tens of MiB a block cycle's sorts move at a
-// time lie on huge pages (core/large_allocations.hpp), not on thousands of fresh 4 KiB pages each
-// faulted in. (Moving them a word at a time would hold 8 bytes per value rather than a
-// tensor's 32, but slows the block integrator's sorts, and the sorts do not lie at the rescan
-// mode's peak memory: docs/performance.md, "Memory per particle".)
+// v[to(k)] = old v[from[k]] for k < from.size() (to: a permutation of the positions in from),
+// through `scratch` (at least from.size() * sizeof(T) bytes), both copies in parallel.
 template <class T, class A, class Index, class To>
-void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::string_view trace_label) {
+void move_values_through(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::span<std::byte> scratch,
+                         std::string_view trace_label) {
   static_assert(std::is_trivially_copyable_v<T>, "values are moved as bytes");
-  UnsetVector<std::byte> moved(from.size() * sizeof(T));
-  std::byte* at = moved.data();
+  std::byte* at = scratch.data();
   for_each(from.size(), [&](std::size_t k) { std::memcpy(at + k * sizeof(T), &v[from[k]], sizeof(T)); }, trace_label, 4096);
   for_each(from.size(), [&](std::size_t k) { std::memcpy(&v[to(k)], at + k * sizeof(T), sizeof(T)); }, trace_label, 4096);
+}
+
+// The same through a scratch of its own. The moved values pass through raw memory: a std::vector<T>
+// of them would first be zero-filled, on this thread alone; through an UnsetVector, so that the tens
+// of MiB a block cycle's sorts move at a time lie on huge pages (core/large_allocations.hpp), not on
+// thousands of fresh 4 KiB pages each faulted in. (Moving them a word at a time would hold 8 bytes
+// per value rather than a tensor's 32, but slows the block integrator's sorts, and the sorts do not
+// lie at the rescan mode's peak memory: docs/performance.md, "Memory per particle".)
+template <class T, class A, class Index, class To>
+void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& to, std::string_view trace_label) {
+  UnsetVector<std::byte> moved(from.size() * sizeof(T));
+  move_values_through(v, from, std::forward<To>(to), moved, trace_label);
 }
 
 // v[k] = old v[order[k]] for k < order.size(); the rest of v is left as it is (order: a permutation
@@ -72,6 +80,13 @@ void move_values_to(std::vector<T, A>& v, const std::vector<Index>& from, To&& t
 template <class T, class A, class Index>
 void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::string_view trace_label = {}) {
   move_values_to(v, order, [](std::size_t k) { return k; }, trace_label);
+}
+// The same through a given scratch (at least order.size() * sizeof(T) bytes): one scratch serves every
+// field of the run's reorder, which then allocates, zero-fills and faults in no field afresh.
+template <class T, class A, class Index>
+void permute_prefix(std::vector<T, A>& v, const std::vector<Index>& order, std::span<std::byte> scratch,
+                    std::string_view trace_label = {}) {
+  move_values_through(v, order, [](std::size_t k) { return k; }, scratch, trace_label);
 }
 
 // v[to[k]] = old v[from[k]] for every k (to: a permutation of the positions in from).

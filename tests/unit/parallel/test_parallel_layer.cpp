@@ -61,6 +61,34 @@ TEST(ParallelLayer, PermutePrefixMovesRecordsWhole) {
   EXPECT_EQ(f, (std::vector<std::array<float, 3>>{{7, 8, 9}, {1, 2, 3}, {4, 5, 6}, {10, 11, 12}}));
 }
 
+TEST(ParallelLayer, PermutePrefixThroughOneScratchServesFieldsOfEveryWidth) {
+  // The run's reorder: a whole permutation of fields of different widths through one scratch of
+  // the widest field's size, left with what the scratch-owning form gives.
+  const std::size_t n = 10001;
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>((k * 7919) % n);  // 7919 prime to n
+  std::vector<double> a(n);
+  std::vector<std::array<double, 4>> b(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    a[i] = static_cast<double>(i);
+    b[i] = {static_cast<double>(i), 1.0, 2.0, -static_cast<double>(i)};
+  }
+  const auto a_alone = [&] { auto v = a; par::permute_prefix(v, order); return v; }();
+  const auto b_alone = [&] { auto v = b; par::permute_prefix(v, order); return v; }();
+  for (int threads : {1, 3}) {
+    par::set_threads(threads);
+    auto a2 = a;
+    auto b2 = b;
+    UnsetVector<std::byte> scratch(n * sizeof(b[0]));
+    par::permute_prefix(a2, order, scratch);
+    par::permute_prefix(b2, order, scratch);
+    EXPECT_EQ(a2, a_alone);
+    EXPECT_EQ(b2, b_alone);
+    for (std::size_t k = 0; k < n; ++k) ASSERT_EQ(a2[k], static_cast<double>(order[k]));
+  }
+  par::set_threads(0);
+}
+
 TEST(ParallelLayer, PrefixOffsetsSumTheCounts) {
   for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4096}, std::size_t{10001}}) {
     const auto count = [](std::size_t k) { return (k * 7919) % 13; };
