@@ -10,8 +10,8 @@ annuli, G(r_out) - G(r_in) with G = -3 pi nu Sigma r^1/2 (Kepler rotation, eqs. 
 the analytic Sigma at the viscous time tau* that best fits the snapshot's binned mass (the profile
 the particles actually have). Prints the projection sum T C / sum C^2: 1 when the SPH torque is the
 continuum's, below 1 when the ring spreads too slowly for its own profile. The particles' own
-velocities set the SPH torque; the same positions with Kepler velocities (--kepler) separate what
-the positions do from what the velocities do.
+velocities set the SPH torque; the same positions with Kepler velocities (bench/kepler_velocities.py,
+then one step of `sphdisk run` from them) separate what the positions do from what the velocities do.
 """
 import os
 import sys
