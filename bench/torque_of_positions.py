@@ -3,9 +3,9 @@
 (docs/validation.md, "What the viscous torque loses on disordered particles").
 
 Usage:
-  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] SNAPSHOT.hdf5 [...]
+  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] SNAPSHOT.hdf5 [...]
       the snapshot's positions with Kepler velocities (bench/kepler_velocities.py), its viscosity
-  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] --random N[:SEED] [...]
+  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] --random N[:SEED] [...]
       N particles placed at random from the analytic ring at tau = 0.126 (the set-up's placement)
 
 For each position set and neighbour number, one rate evaluation (`sphdisk run` with run.max_steps
@@ -21,6 +21,7 @@ import tempfile
 
 import h5py
 
+RSUN_CM = 6.957e10  # the configuration's length unit (solar radii) in cm: physics.viscosity is in Rsun^2 / s
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
 from torque_efficiency import efficiency  # noqa: E402
@@ -40,6 +41,7 @@ def main():
     ap.add_argument("--config", default=str(ROOT / "configs/ring_cold.toml"))
     ap.add_argument("--neighbours", default="60", help="comma-separated neighbour numbers")
     ap.add_argument("--random", action="store_true", help="the arguments are N[:SEED] of random position sets")
+    ap.add_argument("--set", action="append", default=[], help="a further setting of every evaluation")
     ap.add_argument("sets", nargs="+")
     a = ap.parse_args()
     print("positions | neighbours | tau* | SPH torque / continuum torque")
@@ -47,7 +49,7 @@ def main():
         work = pathlib.Path(tmp)
         for item in a.sets:
             for k in (float(x) for x in a.neighbours.split(",")):
-                sets = [f"sph.neighbours={k}"]
+                sets = [f"sph.neighbours={k}"] + a.set
                 if a.random:
                     n, _, seed = item.partition(":")
                     sets += [f"problem.particles={n}", "problem.tau_start=0.126", f"problem.seed={seed or 42}"]
@@ -57,7 +59,7 @@ def main():
                     with h5py.File(item) as f:
                         nu = f["Header"].attrs["KinematicViscosity"]
                         code_nu = f["Units"].attrs["Unit length in cgs (U_L)"] ** 2 / f["Units"].attrs["Unit time in cgs (U_t)"]
-                    sets += [f'problem.initial_conditions="{ic}"', f"physics.viscosity={nu * code_nu / 6.957e10**2:.6e}"]
+                    sets += [f'problem.initial_conditions="{ic}"', f"physics.viscosity={nu * code_nu / RSUN_CM**2:.6e}"]
                 tau_fit, eff = evaluate(a.exe, a.config, sets, work)
                 print(f"{item} | {k:g} | {tau_fit:.4f} | {eff:.3f}", flush=True)
 
