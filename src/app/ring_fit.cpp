@@ -27,8 +27,8 @@ std::pair<int, double> RingFitGrid::best_in(int lo, int hi, int stride, const st
 }
 
 std::pair<double, double> RingFitGrid::fit(const std::vector<double>& sigma) {
-  const int coarse = best_in(0, 2000, 10, sigma).first;
-  const auto [fine, l1] = best_in(coarse - 10, coarse + 10, 1, sigma);
+  const int coarse = best_in(0, kLast, kStride, sigma).first;
+  const auto [fine, l1] = best_in(coarse - kStride, coarse + kStride, 1, sigma);
   return {tau_at(fine), l1};
 }
 

@@ -19,7 +19,9 @@ class RingFitGrid {
   std::pair<double, double> fit(const std::vector<double>& sigma);
 
  private:
-  static constexpr int kLo = -10, kHi = 2010;  // grid points tau (0.5 + 0.0005 i): the scans' reach
+  // Grid points tau (0.5 + 0.0005 i): the coarse scan takes every kStride-th of 0 .. kLast, the fine
+  // one every point within kStride of its best, so the grid reaches kLo .. kHi.
+  static constexpr int kLast = 2000, kStride = 10, kLo = -kStride, kHi = kLast + kStride;
   double tau_at(int i) const { return tau_ * (0.5 + 0.0005 * i); }
   double l1_at(int i, const std::vector<double>& sigma);
   std::pair<int, double> best_in(int lo, int hi, int stride, const std::vector<double>& sigma);
