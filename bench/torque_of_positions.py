@@ -3,7 +3,7 @@
 (docs/validation.md, "What the viscous torque loses on disordered particles").
 
 Usage:
-  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] SNAPSHOT.hdf5 [...]
+  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...|auto] [--set KEY=VALUE ...] SNAPSHOT.hdf5 [...]
       the snapshot's positions with Kepler velocities (bench/kepler_velocities.py), its viscosity
   bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] --random N[:SEED] [...]
       N particles placed at random from the analytic ring at tau = 0.126 (the set-up's placement)
@@ -39,7 +39,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--exe", default=str(ROOT / "build/release/sphdisk"))
     ap.add_argument("--config", default=str(ROOT / "configs/ring_cold.toml"))
-    ap.add_argument("--neighbours", default="60", help="comma-separated neighbour numbers")
+    ap.add_argument("--neighbours", default="60", help="comma-separated neighbour numbers (or auto)")
     ap.add_argument("--random", action="store_true", help="the arguments are N[:SEED] of random position sets")
     ap.add_argument("--set", action="append", default=[], help="a further setting of every evaluation")
     ap.add_argument("sets", nargs="+")
@@ -48,7 +48,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         for item in a.sets:
-            for k in (float(x) for x in a.neighbours.split(",")):
+            for k in a.neighbours.split(","):
                 sets = [f"sph.neighbours={k}"] + a.set
                 if a.random:
                     n, _, seed = item.partition(":")
@@ -61,7 +61,7 @@ def main():
                         code_nu = f["Units"].attrs["Unit length in cgs (U_L)"] ** 2 / f["Units"].attrs["Unit time in cgs (U_t)"]
                     sets += [f'problem.initial_conditions="{ic}"', f"physics.viscosity={nu * code_nu / RSUN_CM**2:.6e}"]
                 tau_fit, eff = evaluate(a.exe, a.config, sets, work)
-                print(f"{item} | {k:g} | {tau_fit:.4f} | {eff:.3f}", flush=True)
+                print(f"{item} | {k} | {tau_fit:.4f} | {eff:.3f}", flush=True)
 
 
 if __name__ == "__main__":

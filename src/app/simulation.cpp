@@ -59,7 +59,8 @@ namespace {
 
 // A fresh run in D dimensions (sph.dimension), from the ring set-up or a user's file.
 template <int D>
-RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& dir, const Setup& setup) {
+RunSummary run_in(const Config& generated_cfg, const RunOptions& opts, const std::string& dir, const Setup& setup) {
+  Config cfg = generated_cfg;
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   Particles<D> p;
   RunState state;
@@ -76,6 +77,7 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
     state.time = meta.time;
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
+    cfg = with_neighbours_resolved(cfg, comm.sum_in_rank_order(static_cast<double>(p.size())));
   } else {
     const auto share = static_cast<std::size_t>(comm.rank()), shares = static_cast<std::size_t>(comm.size());
     p = setup.sedov  ? make_sedov_blast<D>(setup.sedov_blast, share, shares)
@@ -113,11 +115,17 @@ RunSummary run_in(const Config& cfg, const RunOptions& opts, const std::string& 
 
 }  // namespace
 
-RunSummary run_simulation(const Config& cfg, const RunOptions& opts) {
+RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
+  // A generated problem has its N now; a user's file resolves "auto" once it is read (run_in).
+  const Config cfg = given_cfg.initial_conditions.empty()
+                         ? with_neighbours_resolved(given_cfg, static_cast<double>(given_cfg.particles))
+                         : given_cfg;
   apply_run_options(cfg, opts);
   const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
   const Setup setup = make_setup(cfg);
-  check_memory(static_cast<std::size_t>(cfg.particles), cfg.neighbours, smoothing_from_name(cfg.smoothing) == Smoothing::Adaptive);
+  check_memory(static_cast<std::size_t>(cfg.particles),
+               cfg.neighbours_auto() ? auto_neighbours(cfg.dimension, static_cast<double>(cfg.particles)) : cfg.neighbours,
+               smoothing_from_name(cfg.smoothing) == Smoothing::Adaptive);
   // Runs without stored lists are those that would not fit otherwise: from the first array on,
   // large ones go back to the system when freed (stored lists keep theirs, and fresh pages would
   // cost them page faults).
@@ -145,7 +153,9 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
     if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);
-  const Config cfg = parse_config(state.config_toml, path, all_overrides);
+  // "auto" neighbours given on resume: from the particles the run has now.
+  const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides),
+                                              comm.sum_in_rank_order(static_cast<double>(p.size())));
   if (cfg.dimension != D)
     throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
   // Later checkpoints record what this run continues with, overrides included, so that a second

@@ -195,3 +195,27 @@ TEST(Config, AutoViscousUpdateIsSuperStepsForBlockStepsWithAConstantViscosity) {
   EXPECT_EQ(update("[integrator]\nscheme = \"leapfrog\"\n"), "explicit");
   EXPECT_EQ(update(block + "viscous_update = \"explicit\"\n[physics]\neos = \"isothermal\"\nsound_speed = 20.0\n"), "explicit");
 }
+
+TEST(Config, AutoNeighboursFollowTheParticleNumberIn2D) {
+  const Config c = parse_config("", "test.toml", {});
+  EXPECT_TRUE(c.neighbours_auto());
+  EXPECT_NE(c.resolved_toml.find("neighbours = \"auto\""), std::string::npos);
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 1000), 60);  // never below 60
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 10000), 60);
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 20000), 85);   // 60 sqrt(2) = 84.85
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 30000), 104);  // 60 sqrt(3) = 103.92
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 40000), 120);
+  EXPECT_DOUBLE_EQ(auto_neighbours(2, 1e7), 120);    // never above 120
+  EXPECT_DOUBLE_EQ(auto_neighbours(3, 1e6), 60);
+
+  // Resolved: the number in every field and in the text that outputs and checkpoints record.
+  const Config r = with_neighbours_resolved(parse_config("[problem]\nparticles = 30000\n", "test.toml", {}), 30000);
+  EXPECT_FALSE(r.neighbours_auto());
+  EXPECT_DOUBLE_EQ(r.neighbours, 104);
+  EXPECT_NE(r.resolved_toml.find("neighbours = 104.0"), std::string::npos);
+  EXPECT_EQ(r.particles, 30000);
+  // A number given is kept whatever N is.
+  EXPECT_DOUBLE_EQ(with_neighbours_resolved(parse_config("", "test.toml", {"sph.neighbours=57.9"}), 1e6).neighbours, 57.9);
+  EXPECT_NE(error_of("", {"sph.neighbours=many"}).find("must be a number in [4, 10000] or \"auto\""), std::string::npos);
+  EXPECT_NE(error_of("[sph]\nneighbours = true\n").find("or \"auto\""), std::string::npos);
+}
