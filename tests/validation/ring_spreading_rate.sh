@@ -11,16 +11,18 @@
 #   the shear viscosity, the scatter density in the force and a weak pressure whose sound speed makes
 #   the disc's alpha 2 at any viscosity; docs/validation.md, "A sound speed that follows the
 #   viscosity"), at the paper's viscosity and at 4x and 16x it: the analytic rate within 2% and the
-#   L1 within 1.5x its floor (measured 2026-12-06 with the default super-steps: 0.997, 0.997 and
-#   0.984, L1 0.62, 0.70 and 0.75x; with the explicit kicks 1.006, 1.000 and 0.993; 30,000 random
-#   particles alone scatter tau*/tau by 0.012, `sphdisk analyze`).
+#   L1 within 1.5x its floor (measured 2026-12-06 with the default super-steps and "auto"
+#   neighbours, 104 at this N: 1.006, 1.007 and 0.989, L1 0.84, 0.88 and 0.98x; with 60 neighbours
+#   0.997, 0.997 and 0.984, L1 0.62, 0.70 and 0.75x; 30,000 random particles alone scatter tau*/tau
+#   by 0.012, `sphdisk analyze`).
 #   The gather density (0.966-0.979) and the pressureless scatter density without bulk viscosity (L1
 #   1.9x) fail them at the paper's viscosity, and a pressure that does not follow the viscosity (H/R
 #   0.005 at 16x: 0.948) at 16x;
 # - the same with half its sound speed (alpha 8, H/R 0.0024), where the viscous overstability of a
 #   disc without bulk viscosity grows fastest among these (docs/physics.md sec. 4, "Viscous
-#   overstability"): measured 2026-12-06, tau*/tau 0.998 and L1 0.75x with the configuration's bulk
-#   viscosity (0.993 and 0.78x with the explicit kicks), 0.9835 and 2.29x without it (explicit kicks) (`--set physics.bulk_viscosity_ratio=0`).
+#   overstability"): measured 2026-12-06, tau*/tau 1.006 and L1 0.93x with the configuration's bulk
+#   viscosity (60 neighbours: 0.998 and 0.75x), 0.9835 and 2.29x without it (60 neighbours, explicit
+#   kicks) (`--set physics.bulk_viscosity_ratio=0`).
 # Usage: ring_spreading_rate.sh SPHDISK WORKDIR [--set ...]
 set -euo pipefail
 exe=$1
