@@ -3,10 +3,11 @@
 (docs/validation.md, "What the viscous torque loses on disordered particles").
 
 Usage:
-  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...|auto] [--set KEY=VALUE ...] SNAPSHOT.hdf5 [...]
+  bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] SNAPSHOT.hdf5 [...]
       the snapshot's positions with Kepler velocities (bench/kepler_velocities.py), its viscosity
   bench/torque_of_positions.py [--exe BIN] [--config FILE] [--neighbours K1,K2,...] [--set KEY=VALUE ...] --random N[:SEED] [...]
       N particles placed at random from the analytic ring at tau = 0.126 (the set-up's placement)
+  Each K is a neighbour number or auto (the default rule, docs/validation.md).
 
 For each position set and neighbour number, one rate evaluation (`sphdisk run` with run.max_steps
 = 1 from the positions) gives the accelerations, and bench/torque_efficiency.py projects their
