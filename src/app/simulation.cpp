@@ -59,8 +59,7 @@ namespace {
 
 // A fresh run in D dimensions (sph.dimension), from the ring set-up or a user's file.
 template <int D>
-RunSummary run_in(const Config& generated_cfg, const RunOptions& opts, const std::string& dir, const Setup& setup) {
-  Config cfg = generated_cfg;
+RunSummary run_in(Config cfg, const RunOptions& opts, const std::string& dir, const Setup& setup) {
   const Communicator comm = opts.one_process ? Communicator::self() : Communicator::world();
   Particles<D> p;
   RunState state;
