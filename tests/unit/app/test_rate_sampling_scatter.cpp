@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "app/rate_sampling_scatter.hpp"
@@ -55,4 +56,34 @@ TEST(RateSamplingScatter, FallsAsOneOverTheSquareRootOfN) {
   EXPECT_GT(at_40k / at_10k, 0.4);
   EXPECT_LT(at_40k / at_10k, 0.62);
   EXPECT_EQ(random_ring(10000, 1, 0).rate_sampling_sd, 0.0);  // no draws, no figure
+}
+
+namespace {
+
+// The verdict line of `sphdisk analyze` for a comparison with the given rate and sampling scatter.
+std::string verdict_of(double rate, double sd, std::size_t particles) {
+  RingComparison c;
+  c.tau = kTau;
+  c.tau_fit = rate * kTau;
+  c.rate_sampling_sd = sd;
+  c.particles = particles;
+  c.sampling_floor = 0.01;
+  c.mass_sigma_l1 = 0.012;
+  const std::string table = ring_comparison_table(c);
+  const std::size_t at = table.find("verdict:");
+  return at == std::string::npos ? "" : table.substr(at, table.find('\n', at) - at);
+}
+
+}  // namespace
+
+TEST(RateSamplingScatter, VerdictSaysWhetherTheRateIsOffByMoreThanItsNoise) {
+  // 2.1% slow at 10k is NOT within 2%, but one standard deviation of what 10k random particles give.
+  EXPECT_EQ(verdict_of(0.979, 0.0208, 10000),
+            "verdict: spreading rate NOT within 2% of the analytic one (-0.0210 = 1.0 sd of its sampling scatter: "
+            "within the noise of 10000 particles); mass profile within 1.5x its sampling floor");
+  // 1.5% fast at 500k is within 2%, and five standard deviations: more than the noise.
+  EXPECT_NE(verdict_of(1.015, 0.003, 500000).find("within 2% of the analytic one (+0.0150 = 5.0 sd of its sampling scatter: beyond the noise of 500000 particles)"),
+            std::string::npos);
+  // No draws behind the scatter: the verdict says nothing about it.
+  EXPECT_EQ(verdict_of(1.015, 0.0, 500000).find(" sd "), std::string::npos);
 }
