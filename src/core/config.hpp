@@ -118,7 +118,8 @@ Config parse_config(const std::string& toml_text, const std::string& source_name
 // The neighbour number sph.neighbours = "auto" stands for in a run of `particles` particles: in 2D
 // 60 sqrt(N / 10,000) within [60, 120], so that the kernel holds more particles as N grows (the
 // viscous torque on disordered particles falls 2-5% short at 60 neighbours and within 1% at 120,
-// docs/validation.md, "A neighbour number that follows N"); in 3D 60.
+// docs/validation.md, "A neighbour number that follows N"); in 3D 60, where wider kernels, taller
+// against the disc, spread a resolved ring faster than its continuum rate (the same section).
 double auto_neighbours(int dimension, double particles);
 
 // cfg with sph.neighbours = "auto" replaced by auto_neighbours(cfg.dimension, particles) in every
