@@ -24,6 +24,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.dont_write_bytecode = True  # no tools/__pycache__ in the source tree
+from analyze_json import analysis  # noqa: E402
 from disc_profiles import (PROFILES_CSV, data_edges, plot_accreted_mass, plot_profiles,  # noqa: E402
                            radial_profile, write_profiles_csv)
 from report_figures import (plot_binned_sigma, plot_conservation, plot_error, plot_positions,  # noqa: E402
@@ -298,8 +299,16 @@ def make_report(run_dir, out_dir, sphdisk=None):
     draw_disc_figures(run, all_stats, profiles, out_dir)
     draw_run_figures(run, out_dir)
     md = os.path.join(out_dir, "report.md")
-    write_markdown(md, run, all_stats, profiles)
+    write_markdown(md, run, all_stats, profiles, rate_sampling_sd(run, all_stats[-1], sphdisk))
     return md
+
+
+def rate_sampling_sd(run, last, sphdisk):
+    """The last snapshot's rate sampling scatter from `sphdisk analyze` (a ring run with a fitted rate
+    and the binary at hand), else None: the verdict then omits its noise clause."""
+    if not (sphdisk and run.ring_run and last.rate is not None):
+        return None
+    return analysis(sphdisk, run.snapshots[-1]).get("rate_sampling_sd")
 
 
 def parse_args(argv):

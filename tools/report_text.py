@@ -68,14 +68,27 @@ def problem_text(run):
     return f"disc from `{run.params.get('problem.initial_conditions')}` (no Header Problem)"
 
 
-def ring_verdict_lines(stats):
-    """The ring's verdict figures (docs/physics.md sec. 4) of one snapshot."""
+def rate_noise_text(stats, rate_sd):
+    """The rate's departure in standard deviations of its sampling scatter (`sphdisk analyze`'s
+    rate_sampling_sd, the spread of tau*/tau over random draws of N particles from the analytic ring):
+    within 2 sd N particles cannot tell it from noise. Empty without a scatter."""
+    if not rate_sd:
+        return ""
+    sds = abs(stats.rate - 1.0) / rate_sd
+    return (f" (τ*/τ - 1 = {stats.rate - 1.0:+.4f} = {sds:.1f} sd of its sampling scatter {rate_sd:.4f}: "
+            f"{'within' if sds <= 2.0 else 'beyond'} the noise of {stats.particles} particles)")
+
+
+def ring_verdict_lines(stats, rate_sd=None):
+    """The ring's verdict figures (docs/physics.md sec. 4) of one snapshot; rate_sd: its rate's
+    sampling scatter from `sphdisk analyze`, where known."""
     if stats.rate is None or stats.l1_mass is None:
         return []
     rate_ok, noise_ok = (("yes" if ok else "no") for ok in verdict(stats.rate, stats.l1_mass, stats.floor))
     ratio = f" = {stats.l1_mass / stats.floor:.2f} × its sampling floor {stats.floor:.4f}" if stats.floor else ""
     return [f"- Spreading rate at τ = {stats.tau:.4g} ({stats.name}): τ*/τ = {stats.rate:.4f} "
-            f"(annulus-mass L1 {stats.l1_at_fit:.4f} at τ*); within {RATE_TOLERANCE:.0%}: {rate_ok}.",
+            f"(annulus-mass L1 {stats.l1_at_fit:.4f} at τ*); within {RATE_TOLERANCE:.0%}: {rate_ok}"
+            f"{rate_noise_text(stats, rate_sd)}.",
             f"- Annulus-mass L1 {stats.l1_mass:.4f}{ratio}; within {FLOOR_FACTOR}× the floor: {noise_ok}."]
 
 
@@ -93,7 +106,7 @@ def conservation_lines(run):
             f"{fmt(accreted)} of the initial mass."]
 
 
-def section_summary(run, all_stats):
+def section_summary(run, all_stats, rate_sd=None):
     """What ran, over which time, the ring's verdict figures (ring runs) and conservation."""
     n0, n1 = all_stats[0].particles, all_stats[-1].particles
     kernel = str(run.params.get("sph.kernel", "cubic")).strip('"')
@@ -103,7 +116,7 @@ def section_summary(run, all_stats):
              + workers_text(run) + ".",
              f"- Time span: {span_text(run, all_stats)}."]
     if run.ring_run:
-        lines += ring_verdict_lines(all_stats[-1])
+        lines += ring_verdict_lines(all_stats[-1], rate_sd)
     else:
         lines.append("- Not a ring run: radial profiles of the disc as it is, no comparison with the ring solution.")
     return lines + conservation_lines(run) + [""]
@@ -191,9 +204,10 @@ def section_diagnostics(run):
     return lines
 
 
-def write_markdown(path, run, all_stats, profiles):
+def write_markdown(path, run, all_stats, profiles, rate_sd=None):
+    """report.md; rate_sd: the last snapshot's rate sampling scatter (`sphdisk analyze`), where known."""
     lines = [f"# sphdisk run report: {os.path.basename(os.path.abspath(run.run_dir))}", ""]
-    lines += section_summary(run, all_stats)
+    lines += section_summary(run, all_stats, rate_sd)
     lines += section_figures(run.figures)
     lines += ["## Details", ""] + section_run(run) + section_parameters(run.params)
     lines += section_accuracy(all_stats) if run.ring_run else section_disc(all_stats, profiles)

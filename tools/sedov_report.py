@@ -4,14 +4,12 @@ report.md with `sphdisk analyze`'s L1 norms (docs/physics.md sec. 5). The soluti
 `sphdisk analyze --json` (its shells' analytic means, 300 shells out to 1.5 shock radii), so that
 the report and the analysis share one implementation of it.
 """
-import json
 import os
-import subprocess
-import tempfile
 
 import h5py
 import numpy as np
 
+from analyze_json import analysis
 from report_style import WIDE, corner_note, new_figure, save
 
 SHELLS = 300
@@ -20,16 +18,6 @@ FIG = "sedov_{}.png"  # snapshot number of the file name
 
 def is_sedov_run(header):
     return str(header.get("Problem", "")).strip().strip('"') == "sedov"
-
-
-def analysis(sphdisk, snapshot):
-    """`sphdisk analyze --json` of one snapshot, as a dict."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "analysis.json")
-        subprocess.run([sphdisk, "analyze", snapshot, "--json", path, "--bins", str(SHELLS)], check=True,
-                       stdout=subprocess.DEVNULL)
-        with open(path) as f:
-            return json.load(f)
 
 
 def particle_profiles(snapshot, gamma):
@@ -70,7 +58,7 @@ def write_report(run, sphdisk, out_dir):
     for snapshot, header in zip(run.snapshots, run.headers):
         if not float(header.get("Time", 0)) > 0:
             continue
-        a = analysis(sphdisk, snapshot)
+        a = analysis(sphdisk, snapshot, SHELLS)
         name = os.path.basename(snapshot)
         png = FIG.format(name.split("_")[-1].split(".")[0])
         plot_snapshot(snapshot, a, os.path.join(out_dir, png))

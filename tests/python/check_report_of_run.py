@@ -62,6 +62,13 @@ def check_against_analyze(check, sphdisk, run, md):
     rate = ref["tau_fit"] / ref["tau"]  # one step of the fine scan (0.0005) apart at most: quadratures differ
     check(m is not None and abs(float(m.group(1)) - rate) <= 0.0011,
           f"summary τ*/τ {m and m.group(1)} = analyze's {rate:.4f}")
+    m = re.search(r"τ\*/τ - 1 = ([-+][0-9.]+) = ([0-9.]+) sd of its sampling scatter ([0-9.]+): (within|beyond) "
+                  r"the noise of ([0-9]+) particles", md)
+    sd = ref["rate_sampling_sd"]
+    check(m is not None and abs(float(m.group(3)) - sd) <= 1e-4 and int(m.group(5)) == ref["particles"]
+          and abs(float(m.group(2)) - abs(float(m.group(1))) / sd) <= 0.051
+          and m.group(4) == ("within" if float(m.group(2)) <= 2.0 else "beyond"),
+          f"summary's rate departure in sd of analyze's sampling scatter {sd:.4f}: {m and m.group(0)}")
     m = re.search(r"Annulus-mass L1 ([0-9.]+) = [0-9.]+ × its sampling floor ([0-9.]+)", md)
     check(m is not None and abs(float(m.group(1)) - ref["mass_sigma_l1"]) <= 1e-3
           and abs(float(m.group(2)) - ref["sampling_floor"]) <= 1e-3,
