@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "core/error.hpp"
@@ -14,6 +15,7 @@
 #include "neighbours/pair_lists.hpp"
 #include "neighbours/pair_scan.hpp"
 #include "parallel/nth_values.hpp"
+#include "parallel/trace.hpp"
 #include "physics/density.hpp"
 #include "physics/forces.hpp"
 #include "physics/list_factors.hpp"
@@ -24,6 +26,29 @@
 namespace sphdisk {
 
 using namespace evaluation;
+
+namespace {
+// One trace event per evaluation with the number of particles it gives new rates, so that a trace
+// shows where a block cycle's time goes by evaluation size (bench/evaluation_sizes.py reads it).
+class EvaluationEvent {
+ public:
+  EvaluationEvent(std::size_t active, std::size_t particles, bool stage)
+      : active_(active), particles_(particles), stage_(stage), begin_(par::trace_enabled() ? par::trace_now_us() : -1) {}
+  ~EvaluationEvent() {
+    if (begin_ < 0) return;
+    char args[96];
+    std::snprintf(args, sizeof args, "\"active\":%zu,\"particles\":%zu,\"stage\":%d", active_, particles_, stage_ ? 1 : 0);
+    par::trace_record("evaluation", begin_, par::trace_now_us(), args);
+  }
+  EvaluationEvent(const EvaluationEvent&) = delete;
+  EvaluationEvent& operator=(const EvaluationEvent&) = delete;
+
+ private:
+  std::size_t active_, particles_;
+  bool stage_;
+  double begin_;
+};
+}  // namespace
 
 Smoothing smoothing_from_name(std::string_view name) {
   static constexpr NamedChoice<Smoothing> kNames[] = {{"adaptive", Smoothing::Adaptive}, {"constant", Smoothing::Constant}};
@@ -54,6 +79,7 @@ void RateEvaluator<D>::release_rebuilt_memory() {
 template <int D>
 void RateEvaluator<D>::evaluate(Particles<D>& p, std::size_t active) {
   active = std::min(active, p.size());
+  const EvaluationEvent event(active, p.size(), false);
   kept_ = {};
   if (evaluate_involved(p, active)) return;
   evaluate_particles(p, active);
@@ -68,6 +94,7 @@ void RateEvaluator<D>::evaluate_again(Particles<D>& p, std::size_t active, std::
   }
   // (Over all particles, not on a copy of the involved ones, which only stored lists use: a stage's
   // search without a solve is light.)
+  const EvaluationEvent event(active, p.size(), true);
   stage_ = true;
   moved_ = moved;
   evaluate_particles(p, active);

@@ -49,6 +49,7 @@ struct Event {
   std::string name;
   double begin_us, end_us;
   int tid;
+  std::string args;  // JSON members of "args", or empty
 };
 std::atomic<bool> g_enabled{false};
 std::mutex g_buffers_mutex;                     // guards the list of buffers, not the hot path
@@ -78,8 +79,8 @@ bool trace_enabled() { return g_enabled.load(std::memory_order_relaxed); }
 double trace_now_us() {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - g_epoch).count();
 }
-void trace_record(std::string_view name, double begin_us, double end_us) {
-  thread_buffer().push_back(Event{std::string(name), begin_us, end_us, thread_index()});
+void trace_record(std::string_view name, double begin_us, double end_us, std::string_view args) {
+  thread_buffer().push_back(Event{std::string(name), begin_us, end_us, thread_index(), std::string(args)});
 }
 
 std::string trace_events(int pid, double origin_us) {
@@ -93,7 +94,9 @@ std::string trace_events(int pid, double origin_us) {
       os << "{\"name\":\"";
       json_escape(os, e.name);
       os << "\",\"ph\":\"X\",\"pid\":" << pid << ",\"tid\":" << e.tid << ",\"ts\":" << e.begin_us - origin_us
-         << ",\"dur\":" << (e.end_us - e.begin_us) << "}";
+         << ",\"dur\":" << (e.end_us - e.begin_us);
+      if (!e.args.empty()) os << ",\"args\":{" << e.args << "}";
+      os << "}";
     }
   }
   return os.str();

@@ -12,8 +12,9 @@ namespace sphdisk::par {
 
 void trace_enable(bool on);
 bool trace_enabled();
-// Records one complete event on the calling thread's track.
-void trace_record(std::string_view name, double begin_us, double end_us);
+// Records one complete event on the calling thread's track; args: the members of the event's
+// "args" object as JSON text (e.g. `"active":120`), shown beside the event by Perfetto, or empty.
+void trace_record(std::string_view name, double begin_us, double end_us, std::string_view args = {});
 // Writes all recorded events as Chrome trace JSON; returns false on I/O failure.
 bool trace_write(const std::string& path);
 // This process's events as JSON objects on process track `pid` (an MPI rank), times relative to

@@ -31,6 +31,21 @@ def main():
         for phase in ("neighbour_search", "density", "velocity_gradient", "forces", "integration", "io"):
             checks.append((f"phase '{phase}' traced", phase in names))
         checks.append(("durations non-negative", all(e["dur"] >= 0 for e in events)))
+        # One "evaluation" event per rate evaluation, with the particles it gave new rates: together
+        # the run's evaluations and particle updates (ranks.json), each within the 3000 particles.
+        ranks = json.loads((Path(tmp) / "run" / "ranks.json").read_text())[0]
+        evaluations = [e for e in events if e["name"] == "evaluation"]
+        checks.append((f"{len(evaluations)} evaluation events = rate_evaluations {ranks['rate_evaluations']}",
+                       len(evaluations) == ranks["rate_evaluations"]))
+        args_ok = all(0 < e["args"]["active"] <= e["args"]["particles"] == 3000 and e["args"]["stage"] in (0, 1)
+                      for e in evaluations)
+        checks.append(("each evaluation event gives 0 < active <= particles = 3000 and stage 0 or 1", args_ok))
+        updates = sum(e["args"]["active"] for e in evaluations)
+        checks.append((f"evaluation events' active sum {updates} = particle_updates {ranks['particle_updates']}",
+                       updates == ranks["particle_updates"]))
+        table = subprocess.run([sys.executable, str(Path(__file__).resolve().parents[2] / "bench" / "evaluation_sizes.py"),
+                                str(trace)], check=True, capture_output=True, text=True).stdout
+        checks.append(("bench/evaluation_sizes.py tabulates the trace", "<= 100.0%" in table))
         timers = json.loads((Path(tmp) / "run" / "timers.json").read_text())
         for phase in ("cell_build", "neighbour_search", "density", "integration", "io"):
             checks.append((f"timers.json has '{phase}'", phase in timers and timers[phase] >= 0))
