@@ -34,6 +34,21 @@ concept PairSource = requires(const Pairs& pairs, PairListBody body) {
   pairs.for_each_list(body, FactorUse::Write, std::string_view{}, FarPairs::Last);
 };
 
+// A pair source that tells which particles its loops may read (ScannedPairs: the writable ones and
+// those with a writable one within reach), so that the per-particle factors the pair terms read are
+// formed for those only: with few active particles most are never read.
+template <class Pairs>
+concept TellsParticlesRead = PairSource<Pairs> && requires(const Pairs& pairs, std::uint32_t i) {
+  { pairs.may_read(i) } -> std::convertible_to<bool>;
+};
+
+// may_read(i) of a pair source that tells it, else true for every particle.
+template <class Pairs>
+auto particles_read_by(const Pairs& pairs) {
+  if constexpr (TellsParticlesRead<Pairs>) return [&pairs](std::size_t i) { return pairs.may_read(static_cast<std::uint32_t>(i)); };
+  else return [](std::size_t) { return true; };
+}
+
 // A pair source that can search its pairs once for two loops (ScannedPairs: the velocity gradient
 // and the forces, physics/viscous_rates.hpp).
 template <class Pairs>

@@ -51,7 +51,17 @@ class ScannedPairs {
  public:
   ScannedPairs(const CellGrid<D>& grid, const PairLists& tiles, const std::vector<double>& h, bool equal_h,
                const CandidateFilter& writable, Form form)
-      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), writable_(writable), form_(form) {}
+      : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), writable_(writable), form_(form) {
+    if (!writable_.slot_prefix.empty())
+      for (std::size_t i = 0; i < tiles_.writable; ++i) widest_writable_h_ = std::max(widest_writable_h_, h_[i]);
+  }
+
+  // Whether a loop may read particle i: writable, or within reach of a writable particle, as a pair
+  // lies within the support of one of its two (2 max(h_i, h_j) <= 2 max(h_i, the widest writable h)).
+  bool may_read(std::uint32_t i) const {
+    if (i < tiles_.writable || writable_.slot_prefix.empty()) return true;
+    return writable_.any_within(grid_, grid_.sorted_pos[tiles_.slot[i]], 2.0 * std::max(h_[i], widest_writable_h_));
+  }
 
   static constexpr bool kJoinsLoops = true;  // for_each_list_joined (physics/viscous_rates.hpp)
   std::size_t writable() const { return tiles_.writable; }
@@ -297,6 +307,7 @@ class ScannedPairs {
   bool equal_h_;
   const CandidateFilter& writable_;
   Form form_;
+  double widest_writable_h_ = 0;  // with a filter: the largest h of the writable particles
   mutable std::atomic<std::size_t> found_{0};
   mutable bool counted_ = false;
   mutable std::vector<char> far_tile_, idle_tile_;

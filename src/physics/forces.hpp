@@ -53,11 +53,12 @@ struct ForceScratch {
 //   a_i += m_j X . g,  a_j -= m_i X . g,   X = S_i / rho_j + S_j / rho_i - (P_i/rho_i^2 + P_j/rho_j^2) I,
 // with g = grad_i W_ij = -grad_j W_ij (or G_ij), and the pressure work (P/rho^2) m (v_i - v_j) . g
 // for both, as (v_j - v_i) . grad_j W = (v_i - v_j) . g.
-// Before the pair terms: the per-particle factors and the writable particles' accelerations set to
-// gravity (or zero); returns what the list loop reads.
-template <int D>
+// Before the pair terms: the per-particle factors of the particles the pair loops read (reads(i):
+// particles_read_by, pair_source.hpp; the others' are left unset) and the writable particles'
+// accelerations set to gravity (or zero); returns what the list loop reads.
+template <int D, class Reads = bool (*)(std::size_t)>
 ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsParams& phys, ForceScratch& scratch,
-                                bool with_gravity) {
+                                bool with_gravity, Reads reads = [](std::size_t) { return true; }) {
   const bool with_pressure = phys.eos != EquationOfState::None;
   const bool consistent = phys.viscous_force == ViscousForce::Consistent;
   // The consistent divergence reads the volumes m / rho the density stage set (p.volume), not 1 / rho.
@@ -72,11 +73,12 @@ ForceListData<D> prepare_forces(Particles<D>& p, std::size_t m, const PhysicsPar
   const bool scatter = phys.keeps_scatter_density();  // ln rho_s (scatter_density.hpp)
   auto& rho_without_self = scratch.rho_without_self;
   renew_snug(rho_without_self, others ? p.size() : 0);
-  const KernelScale* scales = fill_kernel_scales(p, phys, scratch.scales, "forces");
+  const KernelScale* scales = fill_kernel_scales(p, phys, scratch.scales, "forces", reads);
   const double w0 = with_kernel(phys.kernel, [](auto k) { return KernelAt<decltype(k), D>(1.0).W(0.0); });
   const bool av = with_pressure && phys.artificial_viscosity();
   renew_snug(scratch.sound_speed, av ? p.size() : 0);
   par::for_each(p.size(), [&](std::size_t i) {
+    if (i >= m && !reads(i)) return;
     if (reads_inv_rho) inv_rho[i] = 1.0 / p.rho[i];
     if (consistent) log_rho[i] = std::log(scatter ? p.scatter_density[i] : static_cast<double>(p.rho[i]));
     if (others) rho_without_self[i] = static_cast<double>(p.rho[i]) - p.mass[i] * w0 / std::pow(p.h[i], D);
@@ -115,7 +117,7 @@ auto force_list_body(Particles<D>& p, const ForceListData<D>& d) {
 template <int D, PairSource Pairs>
 void compute_accelerations(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, ForceScratch& scratch,
                            bool with_gravity = true) {
-  const ForceListData<D> d = prepare_forces(p, pairs.writable(), phys, scratch, with_gravity);
+  const ForceListData<D> d = prepare_forces(p, pairs.writable(), phys, scratch, with_gravity, particles_read_by(pairs));
   pairs.for_each_list(force_list_body(p, d), FactorUse::Read, "forces");
 }
 

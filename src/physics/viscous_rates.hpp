@@ -24,7 +24,7 @@ void compute_stress_and_accelerations(Particles<D>& p, const Pairs& pairs, const
                                       bool with_gravity) {
   const std::size_t m = pairs.writable();
   zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
-  const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity);
+  const ForceListData<D> d = prepare_forces(p, m, phys, scratch, with_gravity, particles_read_by(pairs));
   const auto gradient = sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, d.scales));
   if (phys.keeps_scatter_density()) {
     const ScatterListData<D> sd = prepare_scatter_sums(p, m, phys, d.scales, scatter);
