@@ -1,7 +1,7 @@
 #pragma once
 // Squared norms of eight 2D or 3D vectors given component by component, formed as norm2
 // (core/vec.hpp) forms them: the squares fused where the build has FMA, plain products and sums
-// otherwise, so that the AVX-512 loops (neighbours/candidate_scan.cpp, physics/list_sums.cpp) give
+// otherwise, so that the AVX-512 loops (neighbours/candidate_scan.cpp, physics/list_sums_avx512_*.cpp) give
 // the scalar code's bits.
 #include "core/vector_isa.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
 // Eight partners' records read by index into one vector per component, without gather
-// instructions, for the AVX-512 list loops (physics/list_sums.cpp, list_factors.cpp,
+// instructions, for the AVX-512 list loops (physics/list_sums_avx512_2d.cpp and _3d.cpp, list_factors.cpp,
 // neighbours/candidate_scan.cpp). Gathers are slow on AMD's AVX-512 CPUs (the force list loop
 // with gathers ran slower there than its AVX2 form, which loads each partner's record and
 // transposes), and so are masked loads, so these loops mask only the last, partial round

@@ -10,8 +10,9 @@
 // the scalar gradient loop runs compiled for AVX2 (the forces the scalar loop). Every path gives the
 // same bits: the same operations in the same order (i's sum takes the partners in list order; a
 // partner's sum gets one addition per pair, as in the scalar loop), with floating-point contraction
-// off in list_sums.cpp, and the tests compare them. add_gradient_list and add_force_list (below)
-// name the cases the vector paths cover; the rest runs the scalar loop.
+// off in list_sums.cpp and list_sums_avx512_2d.cpp / _3d.cpp, and the tests compare them.
+// add_gradient_list and add_force_list (below) name the cases the vector paths cover; the rest
+// runs the scalar loop.
 #include <cstddef>
 #include <cstdint>
 #include <cmath>

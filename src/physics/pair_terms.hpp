@@ -7,7 +7,8 @@
 // Notation: dx = x_i - x_j, dv = v_j - v_i, F = F_ij the kernel-gradient factor (pair_factors.hpp),
 // g = grad_i W_ij = dx F = -grad_j W_ji, V = m / rho a particle's volume, S the kinematic stress
 // (viscous_stress.hpp), C = M^-1 the moment correction (moment_correction.hpp). The operations and
-// their order are those the vector loops of list_sums.cpp repeat, so both give the same bits.
+// their order are those the vector loops of list_sums_avx512_2d.cpp and _3d.cpp repeat, so both
+// give the same bits.
 #include <cmath>
 
 #include "core/vec.hpp"
