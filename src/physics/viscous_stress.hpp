@@ -169,7 +169,7 @@ template <int D, PairSource Pairs>
 void compute_viscous_stress(Particles<D>& p, const Pairs& pairs, const PhysicsParams& phys, GradientSumsArray<D>& sums,
                             OverwriteVector<KernelScale>& scales, ScatterDensityScratch& scatter) {
   const std::size_t m = pairs.writable();
-  const KernelScale* s = fill_kernel_scales(p, phys, scales, "velocity_gradient");
+  const KernelScale* s = fill_kernel_scales(p, phys, scales, "velocity_gradient", particles_read_by(pairs));
   zero_sums(m, sums, phys.gradient_correction == GradientCorrection::Mixed);
   const auto gradient = sum_lists_into(sums, m, gradient_pair_terms(p, sums, m, phys, s));
   if (phys.keeps_scatter_density()) {

@@ -104,6 +104,13 @@ void check_every_pair_once(Particles<D> particles, double h0, bool equal_h, std:
     got.insert(pair);
   }
   EXPECT_EQ(got, expected);
+  // The per-particle factors are formed only for the particles may_read names: every particle of a
+  // visited pair must be one of them.
+  bool all_named = true;
+  s.with_pairs([&](const auto& pairs) {
+    for (const auto& [pair, count] : visits) all_named &= pairs.may_read(pair.first) && pairs.may_read(pair.second);
+  });
+  EXPECT_TRUE(all_named) << "a loop read a particle that may_read leaves out";
   EXPECT_EQ(s.pairs_found_after_two_loops(), expected.size());
   EXPECT_TRUE(factors_right) << "FactorUse::Read must hand over the factors formed at each pair's distance";
   if (expect_far) EXPECT_GT(far, 0u);
@@ -140,6 +147,23 @@ TEST(PairScan, TilesFarFromWritableParticlesSkippedWithoutLosingPairs) {
     check_every_pair_once(std::move(p), 0.015, false, 600, 2, true, 300);
   }
 }
+// With few writable particles in a strip, may_read names each particle a loop reads (checked in
+// check_every_pair_once) and leaves out most of the others, whose factors are then not formed.
+TEST(PairScan, MayReadLeavesOutParticlesFarFromWritableOnes) {
+  Particles<2> p = with_smoothing_lengths(test::random_particles<2>(4000, 54, false), 0.015, false, 5, 300);
+  std::sort(p.pos.begin(), p.pos.end(), [](const Vec<2>& a, const Vec<2>& b) { return a[0] < b[0]; });
+  const ScanSetup<2> s(std::move(p), 0.015, false, 200, 2);
+  std::size_t named = 0, near = 0;
+  s.with_pairs([&](const auto& pairs) {
+    for (std::uint32_t i = 0; i < 4000; ++i) named += pairs.may_read(i);
+  });
+  double widest = 0, right = -1e300;  // the writable strip's right edge and widest h
+  for (std::uint32_t i = 0; i < 200; ++i) widest = std::max(widest, s.p.h[i]), right = std::max(right, s.p.pos[i][0]);
+  for (std::uint32_t i = 0; i < 4000; ++i) near += s.p.pos[i][0] < right + 2.0 * std::max(widest, s.p.h[i]);
+  EXPECT_GE(named, near);  // at least those within reach of the strip (the test is by cells: a few more)
+  EXPECT_LT(named, 4000u / 2) << "may_read should leave out the particles far from the strip";
+}
+
 // Particles from `writable` on (ghosts, inactive particles) only count with writable partners.
 TEST(PairScan, PairsOfTwoUnwritableParticlesLeftOut) {
   check_every_pair_once(test::random_particles<2>(1500, 47, true), 0.015, false, 600, 2, true);
