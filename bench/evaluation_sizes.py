@@ -30,9 +30,9 @@ def outermost(events):
 
 
 def share_class(active, particles):
+    """Index into EDGES of the smallest bound at or above the active share."""
     share = active / particles if particles else 1.0
-    i = min(bisect.bisect_left(EDGES, share), len(EDGES) - 1)
-    return f"<= {EDGES[i]:.1%}"
+    return min(bisect.bisect_left(EDGES, share), len(EDGES) - 1)
 
 
 def tabulate(trace):
@@ -75,8 +75,8 @@ def main():
     header = ["active share", "kind", "evaluations", "wall_s", "share_of_run", "ms_per_evaluation",
               "us_per_update", *[f"{p}_s" for p in PHASES]]
     table = []
-    for (cls, kind), r in sorted(rows.items(), key=lambda kv: (EDGES.index(float(kv[0][0][3:-1]) / 100), kv[0][1])):
-        table.append([cls, kind, r["evaluations"], f"{r['wall_s']:.3f}", f"{r['wall_s'] / span:.3f}" if span else "",
+    for (cls, kind), r in sorted(rows.items()):
+        table.append([f"<= {EDGES[cls]:.1%}", kind, r["evaluations"], f"{r['wall_s']:.3f}", f"{r['wall_s'] / span:.3f}" if span else "",
                       f"{1e3 * r['wall_s'] / r['evaluations']:.3f}", f"{1e6 * r['wall_s'] / max(r['updates'], 1):.3f}",
                       *[f"{r[p]:.3f}" for p in PHASES]])
     print(f"trace span {span:.2f} s: evaluations {total:.2f} s ({total / span:.1%}), "
