@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 from disc_profiles import PROFILES_CSV
-from ring_model import BIN_RANGE, FLOOR_FACTOR, N_BINS, RATE_TOLERANCE, SCATTER_CUT, verdict
+from ring_model import BIN_RANGE, FLOOR_FACTOR, N_BINS, NOISE_SDS, RATE_TOLERANCE, SCATTER_CUT, verdict
 from run_data import largest_change
 
 SOLAR_UNITS = [("UnitLength_in_cm", "length", 6.957e10, "R☉"), ("UnitMass_in_g", "mass", 1.98841e33, "M☉")]
@@ -71,12 +71,12 @@ def problem_text(run):
 def rate_noise_text(stats, rate_sd):
     """The rate's departure in standard deviations of its sampling scatter (`sphdisk analyze`'s
     rate_sampling_sd, the spread of tau*/tau over random draws of N particles from the analytic ring):
-    within 2 sd N particles cannot tell it from noise. Empty without a scatter."""
+    within NOISE_SDS sd N particles cannot tell it from noise. Empty without a scatter."""
     if not rate_sd:
         return ""
     sds = abs(stats.rate - 1.0) / rate_sd
     return (f" (τ*/τ - 1 = {stats.rate - 1.0:+.4f} = {sds:.1f} sd of its sampling scatter {rate_sd:.4f}: "
-            f"{'within' if sds <= 2.0 else 'beyond'} the noise of {stats.particles} particles)")
+            f"{'within' if sds <= NOISE_SDS else 'beyond'} the noise of {stats.particles} particles)")
 
 
 def ring_verdict_lines(stats, rate_sd=None):

@@ -14,6 +14,7 @@ SCATTER_CUT = 0.01        # per-particle scatter uses Sigma_ana > 1% of the anal
 ANNULUS_SAMPLES = 100     # midpoint-rule samples of the analytic annulus mean (relative error ~1e-6)
 RATE_TOLERANCE = 0.02     # verdict: |tau*/tau - 1| within this
 FLOOR_FACTOR = 1.5        # verdict: annulus-mass L1 within this many sampling floors
+NOISE_SDS = 2.0           # verdict: a rate within this many sd of its sampling scatter is within the noise
 
 
 @dataclass
