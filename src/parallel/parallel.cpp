@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <iomanip>
 #include <mutex>
 #include <sstream>
 #include <vector>
@@ -85,6 +86,9 @@ void trace_record(std::string_view name, double begin_us, double end_us, std::st
 
 std::string trace_events(int pid, double origin_us) {
   std::ostringstream os;
+  // Microseconds to the nanosecond, in fixed notation: the stream's default 6 significant digits
+  // would round a time stamp 100 s into a run to 100 us and misplace events against each other.
+  os << std::fixed << std::setprecision(3);
   bool first = true;
   std::lock_guard<std::mutex> lock(g_buffers_mutex);
   for (const auto* buf : g_buffers) {
