@@ -27,11 +27,11 @@ for n in $sizes; do
     end=$(date +%s.%N)
     /usr/bin/python3 - "$dir" "$n" "$update" "$threads" "$start" "$end" "$exe" >> "$csv" <<'PY'
 import json, re, subprocess, sys
-d, n, update, threads, start, end = sys.argv[1:7]
+d, n, update, threads, start, end, exe = sys.argv[1:8]
 ranks = json.load(open(d + "/ranks.json"))
 evaluations = ranks[0]["rate_evaluations"]
 updates = sum(r["particle_updates"] for r in ranks)
-text = subprocess.run([sys.argv[7], "analyze", d + "/snapshot_001.hdf5"], capture_output=True, text=True, check=True).stdout
+text = subprocess.run([exe, "analyze", d + "/snapshot_001.hdf5"], capture_output=True, text=True, check=True).stdout
 fit = re.search(r"tau\*/tau = ([0-9.]+)", text).group(1)
 l1, floor = re.search(r"annulus-mass L1 ([0-9.]+) = [0-9.]+x the sampling floor ([0-9.]+)", text).groups()
 print(f"{n},{update},{threads},{float(end) - float(start):.1f},{evaluations},{updates / int(n):.0f},{fit},{l1},{floor}")
