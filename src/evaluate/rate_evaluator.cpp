@@ -171,9 +171,13 @@ std::size_t RateEvaluator<D>::adaptive_h_pairs(K, Particles<D>& p) {
     const auto form = [&p](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
       factors_from_h<K, D>(p.h[i], p.h.data(), js, r2, F);
     };
-    const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, false, writable_filter_, form);
-    pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
-    return scanned.pairs_found();
+    std::optional<ScannedPairs<D, decltype(form)>> scanned;
+    {
+      ScopedPhase t(timers_, "neighbour_search");  // (it summarises the tiles)
+      scanned.emplace(grid_, pairs_lists_, p.h, false, writable_filter_, form);
+    }
+    pair_loops(p, *scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
+    return scanned->pairs_found();
   }
   {
     ScopedPhase t(timers_, "density");
@@ -246,9 +250,13 @@ std::size_t RateEvaluator<D>::constant_h_pairs(K, Particles<D>& p, std::size_t a
     const auto form = [kern](std::uint32_t, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
       for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(kern.dW_over_r(std::sqrt(r2[q])));
     };
-    const ScannedPairs<D, decltype(form)> scanned(grid_, pairs_lists_, p.h, true, writable_filter_, form);
-    pair_loops(p, scanned, density);
-    return scanned.pairs_found();
+    std::optional<ScannedPairs<D, decltype(form)>> scanned;
+    {
+      ScopedPhase t(timers_, "neighbour_search");  // (it summarises the tiles)
+      scanned.emplace(grid_, pairs_lists_, p.h, true, writable_filter_, form);
+    }
+    pair_loops(p, *scanned, density);
+    return scanned->pairs_found();
   }
   pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
   return pairs_lists_.total();

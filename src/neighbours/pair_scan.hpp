@@ -54,13 +54,14 @@ class ScannedPairs {
       : grid_(grid), tiles_(tiles), h_(h), equal_h_(equal_h), writable_(writable), form_(form) {
     if (!writable_.slot_prefix.empty())
       for (std::size_t i = 0; i < tiles_.writable; ++i) widest_writable_h_ = std::max(widest_writable_h_, h_[i]);
+    summarise_tiles();  // (before the loops: may_read reads the summary)
   }
 
   // Whether a loop may read particle i: writable, or within reach of a writable particle, as a pair
   // lies within the support of one of its two (2 max(h_i, h_j) <= 2 max(h_i, the widest writable h)).
+  // Answered from a mask the tiles' summary fills (summarise_tiles), a little wider than that test.
   bool may_read(std::uint32_t i) const {
-    if (i < tiles_.writable || writable_.slot_prefix.empty()) return true;
-    return writable_.any_within(grid_, grid_.sorted_pos[tiles_.slot[i]], 2.0 * std::max(h_[i], widest_writable_h_));
+    return i < tiles_.writable || writable_.slot_prefix.empty() || may_read_[i] != 0;
   }
 
   static constexpr bool kJoinsLoops = true;  // for_each_list_joined (physics/viscous_rates.hpp)
@@ -159,9 +160,9 @@ class ScannedPairs {
   bool begin_loop() const {
     const bool count = !counted_;  // in the first loop only: one atomic add per tile, not per list
     counted_ = true;                // (per list, threads would contend for the counter's cache line)
-    if (!summarised_) summarise_tiles();
     return count;
   }
+
 
   // The first loop notes which particles own a pair (each particle is visited by one thread); the
   // loops after it skip the others, whose tests and scans would find the same nothing
@@ -194,16 +195,20 @@ class ScannedPairs {
   int reach_of(std::size_t i) const { return reach_of_h(h_[i]); }
 
   // Once per evaluation (h does not change between the loops), in parallel, for each tile: whether
-  // a particle of it reaches beyond the adjacent tiles (far_tile_), and whether none of them can
-  // own a pair (idle_tile_: no writable particle in it and none within the widest support of its
-  // particles' bounding box). With block timesteps most tiles lie far from every active particle,
-  // and a test of each of their particles in every loop would be a large part of an evaluation
-  // with few active (docs/performance.md, "Block timesteps").
-  void summarise_tiles() const {
+  // a particle of it reaches beyond the adjacent tiles (far_tile_), whether none of them can own a
+  // pair (idle_tile_: no writable particle in it and none within the widest support of its
+  // particles' bounding box), and which particles a loop may read (may_read_: a writable particle
+  // within 2 max(h, the widest writable h) of the tile, then of each run of kReadRun particles in
+  // tile order, which lie close together: one test per run, not per particle). With block
+  // timesteps most tiles lie far from every active particle, and a test of each of their particles
+  // in every loop would be a large part of an evaluation with few active (docs/performance.md,
+  // "Block timesteps").
+  void summarise_tiles() {
     const std::size_t ntiles = tiles_.tile_start.size() - 1, m = tiles_.writable;
     const bool filtered = !writable_.slot_prefix.empty();
     far_tile_.assign(ntiles, 0);
     idle_tile_.assign(ntiles, 0);
+    may_read_.assign(filtered ? tiles_.order.size() : 0, 0);
     owns_pairs_.assign(tiles_.order.size(), 0);
     par::for_each(ntiles, [&](std::size_t t) {
       const std::size_t s0 = tiles_.tile_start[t], s1 = tiles_.tile_start[t + 1];
@@ -223,9 +228,31 @@ class ScannedPairs {
       }
       far_tile_[t] = reach_of_h(widest) > tiles_.tile_cells;
       idle_tile_[t] = filtered && !writable && !writable_.any_within_box(grid_, lo, hi, 2.0 * widest);
+      if (filtered && (writable || writable_.any_within_box(grid_, lo, hi, 2.0 * std::max(widest, widest_writable_h_))))
+        mark_read_runs(s0, s1);
     }, {}, 1);
     jobs_.emplace(tiles_.tile_count, [&](std::size_t t) { return tiles_.tile_start[t + 1] > tiles_.tile_start[t] && !idle_tile_[t]; });
-    summarised_ = true;
+  }
+
+  // may_read_ for the particles order[s0 .. s1) of a tile some writable particle may reach: run by run.
+  void mark_read_runs(std::size_t s0, std::size_t s1) {
+    constexpr std::size_t kReadRun = 8;
+    for (std::size_t r0 = s0; r0 < s1; r0 += kReadRun) {
+      const std::size_t r1 = std::min(s1, r0 + kReadRun);
+      Vec<D> lo = grid_.sorted_pos[tiles_.slot[tiles_.order[r0]]], hi = lo;
+      double widest = 0;
+      for (std::size_t s = r0; s < r1; ++s) {
+        const std::uint32_t i = tiles_.order[s];
+        const Vec<D>& x = grid_.sorted_pos[tiles_.slot[i]];
+        for (int k = 0; k < D; ++k) {
+          lo[k] = std::min(lo[k], x[k]);
+          hi[k] = std::max(hi[k], x[k]);
+        }
+        widest = std::max(widest, h_[i]);
+      }
+      if (!writable_.any_within_box(grid_, lo, hi, 2.0 * std::max(widest, widest_writable_h_))) continue;
+      for (std::size_t s = r0; s < r1; ++s) may_read_[tiles_.order[s]] = 1;
+    }
   }
 
   // i's pairs in adjacent tiles (far = false) or in tiles farther away (far = true), in cell order:
@@ -310,10 +337,10 @@ class ScannedPairs {
   double widest_writable_h_ = 0;  // with a filter: the largest h of the writable particles
   mutable std::atomic<std::size_t> found_{0};
   mutable bool counted_ = false;
-  mutable std::vector<char> far_tile_, idle_tile_;
+  std::vector<char> far_tile_, idle_tile_;
+  std::vector<char> may_read_;  // per particle, with a filter (summarise_tiles)
   mutable std::vector<char> owns_pairs_;  // per particle, from the first loop
-  mutable bool summarised_ = false;
-  mutable std::optional<TileJobs> jobs_;  // the busy tiles' schedule
+  std::optional<TileJobs> jobs_;  // the busy tiles' schedule
 };
 
 }  // namespace sphdisk
