@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "core/snug_resize.hpp"
@@ -16,10 +17,16 @@ namespace {
 
 // A run of 2D particles component by component (GCC vectorises the loops below on separate arrays,
 // not on the interleaved x, y of Vec<2>): positions before (x0, y0) and after (x, y), velocities,
-// stress components, and several = 1 where a particle needs more than one substep, else 0.
+// stress components, and several = 1 where a particle needs more substeps than the vector loops
+// take (kFewSubsteps), else 0; more and which: scratch for the particles that need further substeps.
 struct Components {
-  double *x0, *y0, *x, *y, *vx, *vy, *s00, *s01, *s10, *s11, *several;
+  double *x0, *y0, *x, *y, *vx, *vy, *s00, *s01, *s10, *s11, *several, *more;
+  std::uint32_t* which;
 };
+
+// Particles that need more substeps than this over a tick (the innermost ones of a long tick) are
+// moved one by one (drift_in_point_mass_field).
+constexpr double kFewSubsteps = 16;
 
 namespace baseline_isa {
 #include "integrate/orbit_drift_loops.inc"
@@ -60,11 +67,14 @@ void substep_2d(Vec<2>* x, Vec<2>* v, Mat<2, ReducedReal>* S, const Components& 
 template <int D>
 void drift_and_turn(Vec<D>* x, Vec<D>* v, Mat<D, ReducedReal>* S, std::size_t n, double dt, double gm, double factor) {
   thread_local std::vector<double> scratch;
+  thread_local std::vector<std::uint32_t> which;
   double* several = nullptr;  // null: every particle by the general routine (3D)
   if constexpr (D == 2) {
-    double* base = scratch_for(scratch, 11 * n);
-    const Components c{base,         base + n,     base + 2 * n, base + 3 * n, base + 4 * n, base + 5 * n,
-                       base + 6 * n, base + 7 * n, base + 8 * n, base + 9 * n, base + 10 * n};
+    double* base = scratch_for(scratch, 16 * n);
+    if (which.size() < n) which.resize(n);
+    const Components c{base,         base + n,     base + 2 * n, base + 3 * n, base + 4 * n,  base + 5 * n,
+                       base + 6 * n, base + 7 * n, base + 8 * n, base + 9 * n, base + 10 * n, base + 11 * n,
+                       which.data()};
     substep_2d(x, v, S, c, n, dt, gm, factor);
     several = c.several;
   }

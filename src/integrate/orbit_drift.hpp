@@ -2,12 +2,13 @@
 // The point mass's part of a block step for all particles at once (block_leapfrog.cpp): each
 // particle moved over dt in the point mass's field (drift_in_point_mass_field) and its stored
 // stress turned with its orbit (turned_with_orbit). This loop runs over every particle at every
-// tick where some step ends, so it must not be scalar (docs/performance.md, "Block timesteps"). Over
-// one tick nearly every particle needs a single gravity substep, so the loop is written for that
-// case without branches, which compiles to vector code (in 2D dispatched at run time to AVX2 or
-// AVX-512, core/vector_isa.hpp); the few particles that need more substeps are then moved by the
-// general routine. The same operations on each particle either way (orbit_drift.cpp is compiled
-// without floating-point contraction), so the same bits on every path and as the routine alone.
+// tick where some step ends, so it must not be scalar (docs/performance.md, "Block timesteps"). In
+// 2D the loops are written without branches and compile to vector code (dispatched at run time to
+// AVX2 or AVX-512, core/vector_isa.hpp): every particle's first substep in one pass, the further
+// ones (up to 16; a long tick takes several for most particles) in passes over those that need them;
+// the few innermost particles that need more are moved by the general routine. The same operations
+// on each particle either way (orbit_drift.cpp is compiled without floating-point contraction), so
+// the same bits on every path and as the routine alone.
 #include <cstddef>
 
 #include "core/particles.hpp"

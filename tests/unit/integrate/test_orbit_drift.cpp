@@ -4,6 +4,7 @@
 // to the point mass) that need several.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -43,15 +44,20 @@ TEST(OrbitDrift, EqualsThePerParticleRoutinesOnEveryPath) {
   const std::size_t n = 1003;  // not a multiple of any vector width
   const double dt = 2e-3, gm = 1.0, factor = 0.05;
   Drifted expected = start(n);
-  std::size_t several = 0;
+  std::size_t several = 0, few = 0, many = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const Vec<2> from = expected.x[k];
-    several += dt > orbital_timestep(norm(from), gm, factor);
+    const double substeps = std::ceil(dt / orbital_timestep(norm(from), gm, factor));
+    several += substeps > 1;
+    few += substeps > 1 && substeps <= 4;  // in the vector loops' further passes
+    many += substeps > 100;                // beyond them: the general routine
     drift_in_point_mass_field(expected.x[k], expected.v[k], dt, gm, factor);
     expected.S[k] = turned_with_orbit(expected.S[k], from, expected.x[k]);
   }
   ASSERT_GT(several, 50u);       // some particles take several substeps
   ASSERT_LT(several, n / 2);     // most take one
+  ASSERT_GT(few, 5u);            // (the vector loops take a few substeps, orbit_drift.cpp:
+  ASSERT_GT(many, 5u);           // kFewSubsteps, and leave more to the general routine)
   std::vector<VectorIsa> paths = test::vector_paths();
   paths.insert(paths.begin(), VectorIsa::baseline);
   for (const VectorIsa isa : paths) {
