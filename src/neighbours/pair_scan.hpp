@@ -213,19 +213,10 @@ class ScannedPairs {
     par::for_each(ntiles, [&](std::size_t t) {
       const std::size_t s0 = tiles_.tile_start[t], s1 = tiles_.tile_start[t + 1];
       if (s0 == s1) return;
-      double widest = 0;
-      bool writable = false;
-      Vec<D> lo = grid_.sorted_pos[tiles_.slot[tiles_.order[s0]]], hi = lo;
-      for (std::size_t s = s0; s < s1; ++s) {
-        const std::uint32_t i = tiles_.order[s];
-        const Vec<D>& x = grid_.sorted_pos[tiles_.slot[i]];
-        for (int k = 0; k < D; ++k) {
-          lo[k] = std::min(lo[k], x[k]);
-          hi[k] = std::max(hi[k], x[k]);
-        }
-        widest = std::max(widest, h_[i]);
-        writable |= i < m;
-      }
+      const auto [lo, hi, widest] = extent_of(s0, s1);
+      const bool writable = std::any_of(tiles_.order.begin() + static_cast<std::ptrdiff_t>(s0),
+                                        tiles_.order.begin() + static_cast<std::ptrdiff_t>(s1),
+                                        [m](std::uint32_t i) { return i < m; });
       far_tile_[t] = reach_of_h(widest) > tiles_.tile_cells;
       idle_tile_[t] = filtered && !writable && !writable_.any_within_box(grid_, lo, hi, 2.0 * widest);
       if (filtered && (writable || writable_.any_within_box(grid_, lo, hi, 2.0 * std::max(widest, widest_writable_h_))))
@@ -234,22 +225,31 @@ class ScannedPairs {
     jobs_.emplace(tiles_.tile_count, [&](std::size_t t) { return tiles_.tile_start[t + 1] > tiles_.tile_start[t] && !idle_tile_[t]; });
   }
 
+  // The bounding box and the largest h of the particles order[s0 .. s1) (s0 < s1).
+  struct Extent {
+    Vec<D> lo, hi;
+    double widest;
+  };
+  Extent extent_of(std::size_t s0, std::size_t s1) const {
+    Extent e{grid_.sorted_pos[tiles_.slot[tiles_.order[s0]]], grid_.sorted_pos[tiles_.slot[tiles_.order[s0]]], 0.0};
+    for (std::size_t s = s0; s < s1; ++s) {
+      const std::uint32_t i = tiles_.order[s];
+      const Vec<D>& x = grid_.sorted_pos[tiles_.slot[i]];
+      for (int k = 0; k < D; ++k) {
+        e.lo[k] = std::min(e.lo[k], x[k]);
+        e.hi[k] = std::max(e.hi[k], x[k]);
+      }
+      e.widest = std::max(e.widest, h_[i]);
+    }
+    return e;
+  }
+
   // may_read_ for the particles order[s0 .. s1) of a tile some writable particle may reach: run by run.
   void mark_read_runs(std::size_t s0, std::size_t s1) {
     constexpr std::size_t kReadRun = 8;
     for (std::size_t r0 = s0; r0 < s1; r0 += kReadRun) {
       const std::size_t r1 = std::min(s1, r0 + kReadRun);
-      Vec<D> lo = grid_.sorted_pos[tiles_.slot[tiles_.order[r0]]], hi = lo;
-      double widest = 0;
-      for (std::size_t s = r0; s < r1; ++s) {
-        const std::uint32_t i = tiles_.order[s];
-        const Vec<D>& x = grid_.sorted_pos[tiles_.slot[i]];
-        for (int k = 0; k < D; ++k) {
-          lo[k] = std::min(lo[k], x[k]);
-          hi[k] = std::max(hi[k], x[k]);
-        }
-        widest = std::max(widest, h_[i]);
-      }
+      const auto [lo, hi, widest] = extent_of(r0, r1);
       if (!writable_.any_within_box(grid_, lo, hi, 2.0 * std::max(widest, widest_writable_h_))) continue;
       for (std::size_t s = r0; s < r1; ++s) may_read_[tiles_.order[s]] = 1;
     }
