@@ -163,7 +163,6 @@ class ScannedPairs {
     return count;
   }
 
-
   // The first loop notes which particles own a pair (each particle is visited by one thread); the
   // loops after it skip the others, whose tests and scans would find the same nothing
   // (docs/performance.md, "Block timesteps").
