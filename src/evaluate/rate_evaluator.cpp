@@ -48,6 +48,15 @@ class EvaluationEvent {
   bool stage_;
   double begin_;
 };
+
+// Pairs searched anew over `grid`, made under the search's timer (the constructor summarises the tiles).
+template <int D, class Form>
+ScannedPairs<D, Form> timed_scanned_pairs(PhaseTimers& timers, const CellGrid<D>& grid, const PairLists& tiles,
+                                          const std::vector<double>& h, bool equal_h, const CandidateFilter& writable,
+                                          Form form) {
+  ScopedPhase t(timers, "neighbour_search");
+  return ScannedPairs<D, Form>(grid, tiles, h, equal_h, writable, form);
+}
 }  // namespace
 
 Smoothing smoothing_from_name(std::string_view name) {
@@ -171,13 +180,9 @@ std::size_t RateEvaluator<D>::adaptive_h_pairs(K, Particles<D>& p) {
     const auto form = [&p](std::uint32_t i, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
       factors_from_h<K, D>(p.h[i], p.h.data(), js, r2, F);
     };
-    std::optional<ScannedPairs<D, decltype(form)>> scanned;
-    {
-      ScopedPhase t(timers_, "neighbour_search");  // (it summarises the tiles)
-      scanned.emplace(grid_, pairs_lists_, p.h, false, writable_filter_, form);
-    }
-    pair_loops(p, *scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
-    return scanned->pairs_found();
+    const auto scanned = timed_scanned_pairs(timers_, grid_, pairs_lists_, p.h, false, writable_filter_, form);
+    pair_loops(p, scanned, [&](const auto& pairs) { set_volumes(p, pairs.writable()); });
+    return scanned.pairs_found();
   }
   {
     ScopedPhase t(timers_, "density");
@@ -250,13 +255,9 @@ std::size_t RateEvaluator<D>::constant_h_pairs(K, Particles<D>& p, std::size_t a
     const auto form = [kern](std::uint32_t, std::span<const std::uint32_t> js, const double* r2, std::span<float> F) {
       for (std::size_t q = 0; q < js.size(); ++q) F[q] = static_cast<float>(kern.dW_over_r(std::sqrt(r2[q])));
     };
-    std::optional<ScannedPairs<D, decltype(form)>> scanned;
-    {
-      ScopedPhase t(timers_, "neighbour_search");  // (it summarises the tiles)
-      scanned.emplace(grid_, pairs_lists_, p.h, true, writable_filter_, form);
-    }
-    pair_loops(p, *scanned, density);
-    return scanned->pairs_found();
+    const auto scanned = timed_scanned_pairs(timers_, grid_, pairs_lists_, p.h, true, writable_filter_, form);
+    pair_loops(p, scanned, density);
+    return scanned.pairs_found();
   }
   pair_loops(p, StoredPairs{pairs_lists_, factors_}, density);
   return pairs_lists_.total();
