@@ -263,6 +263,15 @@ TEST(Checkpoint, TheMixedCorrectionsShiftRoundTripsAndFormatSixFilesLackIt) {
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
   }
+  // The scatter density (flag 8192) came with format 10: an older file cannot have left it out.
+  ASSERT_NE(linear.absent_fields() & unsigned{kScatterDensityOnly}, 0u);
+  set_format6(static_cast<long long>(linear.absent_fields() & ~unsigned{kMixedCorrectionOnly | kArtificialViscosityOnly}));
+  try {
+    read_checkpoint<2>(path.string(), r);
+    ADD_FAILURE() << "a format-6 checkpoint claiming flag 8192 absent was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("'AbsentFields' is not valid"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Checkpoint, ChangedOrSwappedRowsFailTheChecksum) {
