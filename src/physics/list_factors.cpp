@@ -109,16 +109,16 @@ template <class K>
   constant_h_kernels(kern, r2, n, w, factors);
 }
 
-template <class K>
+template <class K, int D>
 [[gnu::target("avx512f,avx512vl")]] void factors_from_h_avx512(double h_i, const double* h, std::span<const std::uint32_t> js,
                                                                const double* r2, std::span<float> factors) {
-  factors_from_h_scalar<K, 2>(h_i, h, js, r2, factors);
+  factors_from_h_scalar<K, D>(h_i, h, js, r2, factors);
 }
 
-template <class K>
+template <class K, int D>
 [[gnu::target("avx2")]] void factors_from_h_avx2(double h_i, const double* h, std::span<const std::uint32_t> js,
                                                  const double* r2, std::span<float> factors) {
-  factors_from_h_scalar<K, 2>(h_i, h, js, r2, factors);
+  factors_from_h_scalar<K, D>(h_i, h, js, r2, factors);
 }
 
 #endif
@@ -138,18 +138,19 @@ void form_list_factors(const Vec<2>* pos, const KernelSlope* slopes, std::uint32
   form_list_factors_scalar<K, 2>(pos, slopes, i, js, factors);
 }
 
-// Factors from h: the same loop compiled eight-wide (AVX-512) or four-wide (AVX2).
-template <class K>
-void factors_from_h_2d(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
-                       std::span<float> factors) {
+// Factors from h: the same loop compiled eight-wide (AVX-512) or four-wide (AVX2), in 2D and 3D
+// alike (only the kernel's normalisation differs).
+template <class K, int D>
+void factors_from_h(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
+                    std::span<float> factors) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
   switch (vector_isa()) {
-    case VectorIsa::avx512: return factors_from_h_avx512<K>(h_i, h, js, r2, factors);
-    case VectorIsa::avx2: return factors_from_h_avx2<K>(h_i, h, js, r2, factors);
+    case VectorIsa::avx512: return factors_from_h_avx512<K, D>(h_i, h, js, r2, factors);
+    case VectorIsa::avx2: return factors_from_h_avx2<K, D>(h_i, h, js, r2, factors);
     case VectorIsa::baseline: break;
   }
 #endif
-  factors_from_h_scalar<K, 2>(h_i, h, js, r2, factors);
+  factors_from_h_scalar<K, D>(h_i, h, js, r2, factors);
 }
 
 template <class K>
@@ -192,9 +193,18 @@ template void constant_h_list<WendlandC2>(const Vec<2>*, const KernelAt<Wendland
 template void constant_h_list<WendlandC4>(const Vec<2>*, const KernelAt<WendlandC4, 2>&, std::uint32_t,
                                           std::span<const std::uint32_t>, double*, std::span<float>);
 
-template void factors_from_h_2d<CubicSpline>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
-template void factors_from_h_2d<WendlandC2>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
-template void factors_from_h_2d<WendlandC4>(double, const double*, std::span<const std::uint32_t>, const double*, std::span<float>);
+template void factors_from_h<CubicSpline, 2>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                             std::span<float>);
+template void factors_from_h<WendlandC2, 2>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                            std::span<float>);
+template void factors_from_h<WendlandC4, 2>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                            std::span<float>);
+template void factors_from_h<CubicSpline, 3>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                             std::span<float>);
+template void factors_from_h<WendlandC2, 3>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                            std::span<float>);
+template void factors_from_h<WendlandC4, 3>(double, const double*, std::span<const std::uint32_t>, const double*,
+                                            std::span<float>);
 
 template void kernels_at_distances<CubicSpline>(const KernelAt<CubicSpline, 2>&, const double*, std::size_t, double*, float*);
 template void kernels_at_distances<WendlandC2>(const KernelAt<WendlandC2, 2>&, const double*, std::size_t, double*, float*);

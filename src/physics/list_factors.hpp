@@ -6,7 +6,8 @@
 // data and vectorises. In 2D on CPUs with AVX-512 (asked at run time, core/vector_isa.hpp) the
 // gathers take eight partners at a time and the loop runs eight-wide; with AVX2 the same code as the
 // baseline runs four-wide; the same operations on each element, without floating-point contraction
-// (list_factors.cpp), so the same bits on every path.
+// (list_factors.cpp), so the same bits on every path. The factors made from h (factors_from_h) are
+// dispatched so in 3D as well.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -66,17 +67,10 @@ template <class K, int D>
   std::copy_n(F, n, factors.data());
 }
 
-// 2D: dispatched (list_factors.cpp; instantiated for the kernels of kernels.hpp).
-template <class K>
-void factors_from_h_2d(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
-                       std::span<float> factors);
-
+// 2D and 3D: dispatched (list_factors.cpp; instantiated for the kernels of kernels.hpp).
 template <class K, int D>
 void factors_from_h(double h_i, const double* h, std::span<const std::uint32_t> js, const double* r2,
-                    std::span<float> factors) {
-  if constexpr (D == 2) factors_from_h_2d<K>(h_i, h, js, r2, factors);
-  else factors_from_h_scalar<K, D>(h_i, h, js, r2, factors);
-}
+                    std::span<float> factors);
 
 // The second loop: on contiguous squared distances, so that it vectorises.
 template <class K, int D>

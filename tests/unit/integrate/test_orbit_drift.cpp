@@ -73,5 +73,33 @@ TEST(OrbitDrift, EqualsThePerParticleRoutinesOnEveryPath) {
   }
 }
 
+// The 3D turn, written out for the rotation about z, against the general product R S R^T: the same
+// values (a zero may differ in its sign), with the z row and column carried through.
+TEST(OrbitDrift, ThreeDimensionalTurnIsTheRotationsProduct) {
+  std::mt19937_64 g(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Mat<3, ReducedReal> S;
+    for (auto& c : S.c) c = static_cast<ReducedReal>(u(g));
+    const Vec<3> from{u(g), u(g), u(g)}, to{u(g), u(g), u(g)};
+    const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
+    const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
+    Mat<3> R = identity<3>(), Rt = identity<3>();
+    R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
+    Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
+    Mat<3, ReducedReal> expected;
+    store(expected, R * as_double(S) * Rt);
+    const Mat<3, ReducedReal> got = turned_with_orbit(S, from, to);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) ASSERT_EQ(got(i, j), expected(i, j)) << "trial " << trial << ", (" << i << ", " << j << ")";
+    ASSERT_EQ(got(2, 2), S(2, 2));
+  }
+  // At the origin nothing is turned.
+  Mat<3, ReducedReal> S;
+  for (auto& c : S.c) c = static_cast<ReducedReal>(u(g));
+  const Mat<3, ReducedReal> same = turned_with_orbit(S, Vec<3>{0, 0, 1}, Vec<3>{1, 0, 0});
+  for (std::size_t k = 0; k < S.c.size(); ++k) ASSERT_EQ(same.c[k], S.c[k]);
+}
+
 }  // namespace
 }  // namespace sphdisk

@@ -226,7 +226,7 @@ namespace {
 // The factors of pair loops that keep no slopes (factors_from_h: slopes made from h, squared
 // distances given), on every vector path, bit for bit those of form_list_factors from slopes bound
 // from the same h on the scalar path.
-template <class K>
+template <class K, int D>
 void check_factors_from_h(VectorIsa isa) {
   const Fields f = random_fields();
   std::mt19937_64 rng(17);
@@ -235,7 +235,7 @@ void check_factors_from_h(VectorIsa isa) {
   std::vector<KernelSlope> slopes;
   for (std::size_t k = 0; k < kParticles; ++k) {
     h.push_back(hs(rng));
-    slopes.push_back(slope_of(KernelAt<K, 2>(h.back())));
+    slopes.push_back(slope_of(KernelAt<K, D>(h.back())));
   }
   const Lists l = random_lists();
   const auto bound = test::on_path(VectorIsa::baseline, [&] { return factors<K>(f, slopes, l); });
@@ -246,13 +246,13 @@ void check_factors_from_h(VectorIsa isa) {
       std::vector<double> r2(js.size() + 8, 0.0);  // room for whole vectors of eight
       for (std::size_t q = 0; q < js.size(); ++q) r2[q] = norm2(f.pos[l.owner[k]] - f.pos[js[q]]);
       std::vector<float> F(js.size());
-      factors_from_h<K, 2>(h[l.owner[k]], h.data(), js, r2.data(), F);
+      factors_from_h<K, D>(h[l.owner[k]], h.data(), js, r2.data(), F);
       all.push_back(F);
     }
     return all;
   });
   for (std::size_t k = 0; k < l.owner.size(); ++k)
-    ASSERT_TRUE(same_bits(from_h[k], bound[k])) << vector_isa_name(isa) << ", " << K::name << ", list " << k;
+    ASSERT_TRUE(same_bits(from_h[k], bound[k])) << vector_isa_name(isa) << ", " << K::name << ", " << D << "D, list " << k;
 }
 
 }  // namespace
@@ -261,9 +261,12 @@ TEST(ListSums, FactorsFromSmoothingLengthsEqualBoundSlopes) {
   std::vector<VectorIsa> paths = test::vector_paths();
   paths.push_back(VectorIsa::baseline);
   for (const VectorIsa isa : paths) {
-    check_factors_from_h<CubicSpline>(isa);
-    check_factors_from_h<WendlandC2>(isa);
-    check_factors_from_h<WendlandC4>(isa);
+    check_factors_from_h<CubicSpline, 2>(isa);
+    check_factors_from_h<WendlandC2, 2>(isa);
+    check_factors_from_h<WendlandC4, 2>(isa);
+    check_factors_from_h<CubicSpline, 3>(isa);
+    check_factors_from_h<WendlandC2, 3>(isa);
+    check_factors_from_h<WendlandC4, 3>(isa);
   }
 }
 
