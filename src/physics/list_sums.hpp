@@ -22,6 +22,7 @@
 #include "core/particles.hpp"
 #include "core/vec.hpp"
 #include "physics/kernels.hpp"
+#include "physics/lane_sums.hpp"
 #include "physics/pair_factors.hpp"
 #include "physics/pair_terms.hpp"
 
@@ -212,7 +213,8 @@ template <int D>
 // The switches are template arguments so that each case runs a loop without the others' tests
 // (force_list_terms), chosen once per list by add_force_list_scalar. Correction: the force
 // correction of the conservative divergence; Consistent: the consistent divergence (then
-// Correction is false).
+// Correction is false), whose pair terms, viscous and pressure together, i sums in eight lanes
+// (lane_sums.hpp) and each partner takes as one term.
 template <int D, bool Pressure, bool Correction, bool Consistent = false>
 void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<const std::uint32_t> js,
                       std::span<const float> F, Vec<D>& ai, double& du_i) {
@@ -223,6 +225,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
   Mat<D> Ci;
   double log_rho_i = 0.0, signal_i = 0.0;
   if constexpr (Consistent) Ci = as_double(d.correction[i]), log_rho_i = d.log_rho[i];
+  LaneSums<D> lanes;  // Consistent: i's sums
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
     Vec<D> g = kernel_gradient(xi - d.pos[j], static_cast<double>(F[q]));
@@ -230,6 +233,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
     const Mat<D> Sj = as_double(d.stress[j]);
     const double mj = d.mass[j];
     Vec<D> f;  // the pair's antisymmetric part: a_i += m_j f, a_j -= m_i f
+    PairTerms<Vec<D>> a;  // Consistent: the viscous terms of i and j
     if constexpr (Consistent) {
       double dl = d.log_rho[j] - log_rho_i;
       // The pair's kernel values, one evaluation for both their readers.
@@ -240,9 +244,7 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       const PairTerms<Vec<D>> G = d.correction_shift ? mixed_corrected_gradients(Ci, Cj, d.correction_shift[i],
                                                                                  d.correction_shift[j], pair_average_value(w), g)
                                                      : linear_corrected_gradients(Ci, Cj, g);
-      const PairTerms<Vec<D>> a = consistent_viscous_pair(Si, Sj, G, dl, d.volume[i], d.volume[j]);
-      ai += a.to_i;
-      if (j < d.writable) d.acc[j] += a.to_j;
+      a = consistent_viscous_pair(Si, Sj, G, dl, d.volume[i], d.volume[j]);
     } else {
       f = conservative_viscous_pair(Si, Sj, inv_rho_i, d.inv_rho[j], g);
     }
@@ -260,14 +262,20 @@ void force_list_terms(const ForceListData<D>& d, std::uint32_t i, std::span<cons
       }
       f -= pressure_pair(Pr.to_i, Pr.to_j, g);
       const PairTerms<double> work = pressure_work_pair(Pr.to_i, Pr.to_j, mi, mj, vij, g);
-      du_i += work.to_i;
+      if constexpr (Consistent) lanes.add(q, work.to_i);
+      else du_i += work.to_i;
       if (j < d.writable && d.du_dt) d.du_dt[j] += work.to_j;
     }
-    if constexpr (!Consistent || Pressure) {
+    if constexpr (Consistent) {
+      if constexpr (Pressure) a.to_i += f * mj, a.to_j -= f * mi;
+      lanes.add(q, a.to_i);
+      if (j < d.writable) d.acc[j] += a.to_j;
+    } else {
       ai += f * mj;
       if (j < d.writable) d.acc[j] -= f * mi;
     }
   }
+  if constexpr (Consistent) lanes.add_to(ai, du_i);
   if (d.signal_speed && i < d.writable) d.signal_speed[i] = std::max(d.signal_speed[i], signal_i);
 }
 

@@ -49,6 +49,14 @@ static_assert(offsetof(GradientMoments<2>, M) == 4 * sizeof(double) && sizeof(Gr
   r[7] = _mm512_maskz_shuffle_f64x2(0xFF, u[3], u[7], 0xDD);
 }
 
+// The eight lanes of sums totalled as lane_total totals them (lane_sums.hpp): the upper half added
+// to the lower, then again, then the two.
+[[gnu::target("avx512f"), gnu::always_inline]] inline double lane_total(__m512d v) {
+  const __m256d four = _mm256_add_pd(_mm512_maskz_extractf64x4_pd(0xFF, v, 0), _mm512_maskz_extractf64x4_pd(0xFF, v, 1));
+  const __m128d two = _mm_add_pd(_mm256_castpd256_pd128(four), _mm256_extractf128_pd(four, 1));
+  return _mm_cvtsd_f64(two) + _mm_cvtsd_f64(_mm_unpackhi_pd(two, two));
+}
+
 // -x exactly (the sign bit flipped; 0 - x would turn -0 into +0).
 [[gnu::target("avx512f"), gnu::always_inline]] inline __m512d negated(__m512d x) {
   return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(x), _mm512_set1_epi64(INT64_MIN)));

@@ -155,8 +155,8 @@ template <bool Subtract>
 // the ln rho_j - ln rho_i that log_rho holds), with the pressure force and its work where Pressure
 // (no artificial viscosity; force_list_terms<2, Pressure, false, true>, list_sums.hpp), eight
 // partners per round: both particles' terms formed for all eight with the scalar loop's operations
-// in its order, then added pair by pair in list order as the scalar loop adds them (the viscous
-// term, then the pressure's work and force).
+// in its order, i's added to its eight lanes of sums (lane_sums.hpp), each partner's added to it in
+// list order, the lanes totalled at the end.
 template <bool Pressure>
 [[gnu::target("avx512f,avx512vl")]] void consistent_force_list_avx512(const ForceListData<2>& d, std::uint32_t i,
                                                                       const std::uint32_t* js, const float* F, std::size_t n,
@@ -172,8 +172,8 @@ template <bool Pressure>
   const __m512d vxi = _mm512_set1_pd(d.vel[i][0]), vyi = _mm512_set1_pd(d.vel[i][1]);
   const __m512d mi = _mm512_set1_pd(d.mass[i]), Pr_i = _mm512_set1_pd(Pressure ? d.p_over_rho2[i] : 0.0);
   const double* vel = reinterpret_cast<const double*>(d.vel);
-  __m128d sum = _mm_loadu_pd(ai.c.data());
-  alignas(64) double to_i[16], to_j[16], press_i[16], press_j[16], work_i[8], work_j[8];
+  __m512d lane_x = _mm512_setzero_pd(), lane_y = _mm512_setzero_pd(), lane_du = _mm512_setzero_pd();
+  alignas(64) double to_j[16], work_j[8];
   for (std::size_t q = 0; q < n; q += 8) {
     const Round r = load_round(js, F, q, n);
     __m512d xj, yj, Sj[4], Cj[4];
@@ -195,42 +195,40 @@ template <bool Pressure>
       Xi[c] = _mm512_add_pd(dS, _mm512_mul_pd(Si[c], dl));
       Xj[c] = _mm512_add_pd(dS, _mm512_mul_pd(Sj[c], dl));
     }
-    const __m512d ax = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[0], Gix), _mm512_mul_pd(Xi[1], Giy)), Vj);
-    const __m512d ay = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[2], Gix), _mm512_mul_pd(Xi[3], Giy)), Vj);
-    const __m512d bx = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[0], Gjx), _mm512_mul_pd(Xj[1], Gjy)), Vi);
-    const __m512d by = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[2], Gjx), _mm512_mul_pd(Xj[3], Gjy)), Vi);
-    interleave(ax, ay, to_i);
-    interleave(bx, by, to_j);
+    __m512d ax = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[0], Gix), _mm512_mul_pd(Xi[1], Giy)), Vj);
+    __m512d ay = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xi[2], Gix), _mm512_mul_pd(Xi[3], Giy)), Vj);
+    __m512d bx = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[0], Gjx), _mm512_mul_pd(Xj[1], Gjy)), Vi);
+    __m512d by = _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(Xj[2], Gjx), _mm512_mul_pd(Xj[3], Gjy)), Vi);
     const std::size_t count = std::min<std::size_t>(8, n - q);
-    if constexpr (!Pressure) {
-      add_round<false>(d, js + q, count, to_i, to_j, sum);
-    } else {
+    const auto live = static_cast<__mmask8>((1u << count) - 1u);
+    if constexpr (Pressure) {
       // pressure_pair, subtracted from a zero f, and pressure_work_pair with v_ij . g
       const __m512d mj = avx512::load_singles(d.mass, r.j), Pr_j = avx512::load_singles(d.p_over_rho2, r.j);
       const __m512d Pr = _mm512_add_pd(Pr_i, Pr_j);
       const __m512d fx = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(gx, Pr));
       const __m512d fy = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(gy, Pr));
-      interleave(_mm512_mul_pd(fx, mj), _mm512_mul_pd(fy, mj), press_i);
-      interleave(_mm512_mul_pd(fx, mi), _mm512_mul_pd(fy, mi), press_j);
+      ax = _mm512_add_pd(ax, _mm512_mul_pd(fx, mj)), ay = _mm512_add_pd(ay, _mm512_mul_pd(fy, mj));
+      bx = _mm512_sub_pd(bx, _mm512_mul_pd(fx, mi)), by = _mm512_sub_pd(by, _mm512_mul_pd(fy, mi));
       __m512d vxj, vyj;
       avx512::load_pairs(vel, r.j, vxj, vyj);
       const __m512d work = _mm512_add_pd(_mm512_mul_pd(_mm512_sub_pd(vxi, vxj), gx), _mm512_mul_pd(_mm512_sub_pd(vyi, vyj), gy));
-      _mm512_store_pd(work_i, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
+      lane_du = _mm512_mask_add_pd(lane_du, live, lane_du, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
       _mm512_store_pd(work_j, _mm512_mul_pd(_mm512_mul_pd(Pr_j, mi), work));
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::uint32_t j = js[q + k];
-        const bool writable = j < d.writable;
-        double* a = writable ? d.acc[j].c.data() : nullptr;
-        sum = _mm_add_pd(sum, _mm_load_pd(to_i + 2 * k));
-        if (writable) _mm_storeu_pd(a, _mm_add_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
-        du_i += work_i[k];
-        if (writable && d.du_dt) d.du_dt[j] += work_j[k];
-        sum = _mm_add_pd(sum, _mm_load_pd(press_i + 2 * k));
-        if (writable) _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), _mm_load_pd(press_j + 2 * k)));
-      }
+    }
+    lane_x = _mm512_mask_add_pd(lane_x, live, lane_x, ax);
+    lane_y = _mm512_mask_add_pd(lane_y, live, lane_y, ay);
+    interleave(bx, by, to_j);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::uint32_t j = js[q + k];
+      if (j >= d.writable) continue;
+      double* a = d.acc[j].c.data();
+      _mm_storeu_pd(a, _mm_add_pd(_mm_loadu_pd(a), _mm_load_pd(to_j + 2 * k)));
+      if (Pressure && d.du_dt) d.du_dt[j] += work_j[k];
     }
   }
-  _mm_storeu_pd(ai.c.data(), sum);
+  ai[0] += lane_total(lane_x);
+  ai[1] += lane_total(lane_y);
+  du_i += lane_total(lane_du);
 }
 
 template void consistent_force_list_avx512<true>(const ForceListData<2>&, std::uint32_t, const std::uint32_t*, const float*,

@@ -190,9 +190,9 @@ template void pressure_force_list_avx512<false>(const ForceListData<3>&, std::ui
 // 3D consistent divergence of eq. 6 (consistent_viscous_pair with linear_corrected_gradients and
 // the ln rho_j - ln rho_i that log_rho holds) with the pressure force and its work, no artificial
 // viscosity (force_list_terms<3, true, false, true>, list_sums.hpp), eight partners per round: both
-// particles' terms formed for all eight with the scalar loop's operations in its order, then added
-// pair by pair in list order as the scalar loop adds them (the viscous term, then the pressure's
-// work and force).
+// particles' terms formed for all eight with the scalar loop's operations in its order, i's added
+// to its eight lanes of sums (lane_sums.hpp), each partner's added to it in list order, the lanes
+// totalled at the end.
 [[gnu::target("avx512f,avx512vl")]] void consistent_pressure_force_list_avx512(const ForceListData<3>& d, std::uint32_t i,
                                                                                const std::uint32_t* js, const float* F,
                                                                                std::size_t n, Vec<3>& ai, double& du_i) {
@@ -206,7 +206,8 @@ template void pressure_force_list_avx512<false>(const ForceListData<3>&, std::ui
   for (std::size_t c = 0; c < 9; ++c) Si[c] = _mm512_set1_pd(d.stress[i].c[c]), Ci[c] = _mm512_set1_pd(d.correction[i].c[c]);
   const __m512d log_rho_i = _mm512_set1_pd(d.log_rho[i]), Vi = _mm512_set1_pd(d.volume[i]);
   const __m512d mi = _mm512_set1_pd(d.mass[i]), Pr_i = _mm512_set1_pd(d.p_over_rho2[i]);
-  alignas(64) double to_i[3][8], to_j[3][8], press_i[3][8], press_j[3][8], work_i[8], work_j[8];
+  __m512d lane[3] = {_mm512_setzero_pd(), _mm512_setzero_pd(), _mm512_setzero_pd()}, lane_du = _mm512_setzero_pd();
+  alignas(64) double to_j[3][8], work_j[8];
   for (std::size_t q = 0; q < n; q += 8) {
     const Round r = load_round(js, F, q, n);
     __m512d xj[3], vj[3], Sj[9], Cj[9];
@@ -234,31 +235,27 @@ template void pressure_force_list_avx512<false>(const ForceListData<3>&, std::ui
     // pressure_pair, subtracted from a zero f, and pressure_work_pair with vij . g
     const __m512d mj = avx512::load_singles(d.mass, r.j), Pr_j = avx512::load_singles(d.p_over_rho2, r.j);
     const __m512d Pr = _mm512_add_pd(Pr_i, Pr_j);
+    const std::size_t count = std::min<std::size_t>(8, n - q);
+    const auto live = static_cast<__mmask8>((1u << count) - 1u);
     for (std::size_t c = 0; c < 3; ++c) {
-      _mm512_store_pd(to_i[c], _mm512_mul_pd(ti[c], Vj));
-      _mm512_store_pd(to_j[c], _mm512_mul_pd(tj[c], Vi));
       const __m512d f = _mm512_sub_pd(_mm512_setzero_pd(), _mm512_mul_pd(g[c], Pr));
-      _mm512_store_pd(press_i[c], _mm512_mul_pd(f, mj));
-      _mm512_store_pd(press_j[c], _mm512_mul_pd(f, mi));
+      const __m512d to_i = _mm512_add_pd(_mm512_mul_pd(ti[c], Vj), _mm512_mul_pd(f, mj));
+      lane[c] = _mm512_mask_add_pd(lane[c], live, lane[c], to_i);
+      _mm512_store_pd(to_j[c], _mm512_sub_pd(_mm512_mul_pd(tj[c], Vi), _mm512_mul_pd(f, mi)));
     }
     const __m512d work =
         _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(vij[0], g[0]), _mm512_mul_pd(vij[1], g[1])), _mm512_mul_pd(vij[2], g[2]));
-    _mm512_store_pd(work_i, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
+    lane_du = _mm512_mask_add_pd(lane_du, live, lane_du, _mm512_mul_pd(_mm512_mul_pd(Pr_i, mj), work));
     _mm512_store_pd(work_j, _mm512_mul_pd(_mm512_mul_pd(Pr_j, mi), work));
-    const std::size_t count = std::min<std::size_t>(8, n - q);
     for (std::size_t k = 0; k < count; ++k) {
       const std::uint32_t j = js[q + k];
-      const bool writable = j < d.writable;
-      for (int c = 0; c < 3; ++c) ai[c] += to_i[c][k];
-      if (writable)
-        for (int c = 0; c < 3; ++c) d.acc[j][c] += to_j[c][k];
-      du_i += work_i[k];
-      if (writable && d.du_dt) d.du_dt[j] += work_j[k];
-      for (int c = 0; c < 3; ++c) ai[c] += press_i[c][k];
-      if (writable)
-        for (int c = 0; c < 3; ++c) d.acc[j][c] -= press_j[c][k];
+      if (j >= d.writable) continue;
+      for (int c = 0; c < 3; ++c) d.acc[j][c] += to_j[c][k];
+      if (d.du_dt) d.du_dt[j] += work_j[k];
     }
   }
+  for (int c = 0; c < 3; ++c) ai[c] += lane_total(lane[static_cast<std::size_t>(c)]);
+  du_i += lane_total(lane_du);
 }
 #endif
 
