@@ -14,27 +14,34 @@ namespace sphdisk {
 
 constexpr std::size_t kLanes = 8;
 
-// ((l0 + l4) + (l2 + l6)) + ((l1 + l5) + (l3 + l7)): the upper half of eight added to the lower,
-// then the upper half of the four to the lower, then the two.
-inline double lane_total(const std::array<double, kLanes>& l) {
-  const double a0 = l[0] + l[4], a1 = l[1] + l[5], a2 = l[2] + l[6], a3 = l[3] + l[7];
-  return (a0 + a2) + (a1 + a3);
-}
+struct LaneSum {
+  std::array<double, kLanes> lane{};
 
+  void add(std::size_t q, double x) { lane[q % kLanes] += x; }
+
+  // ((l0 + l4) + (l2 + l6)) + ((l1 + l5) + (l3 + l7)): the upper half of eight added to the lower,
+  // then the upper half of the four to the lower, then the two.
+  double total() const {
+    const double a0 = lane[0] + lane[4], a1 = lane[1] + lane[5], a2 = lane[2] + lane[6], a3 = lane[3] + lane[7];
+    return (a0 + a2) + (a1 + a3);
+  }
+};
+
+// A vector's components and one scalar (the force loop's acceleration and energy rate).
 template <int D>
 struct LaneSums {
-  std::array<std::array<double, kLanes>, D> vec{};  // per component
-  std::array<double, kLanes> scalar{};
+  std::array<LaneSum, D> vec{};
+  LaneSum scalar{};
 
   void add(std::size_t q, const Vec<D>& x) {
-    for (int c = 0; c < D; ++c) vec[static_cast<std::size_t>(c)][q % kLanes] += x[c];
+    for (int c = 0; c < D; ++c) vec[static_cast<std::size_t>(c)].add(q, x[c]);
   }
-  void add(std::size_t q, double x) { scalar[q % kLanes] += x; }
+  void add(std::size_t q, double x) { scalar.add(q, x); }
 
   // The totals added to what the sums held before the list.
   void add_to(Vec<D>& v, double& s) const {
-    for (int c = 0; c < D; ++c) v[c] += lane_total(vec[static_cast<std::size_t>(c)]);
-    s += lane_total(scalar);
+    for (int c = 0; c < D; ++c) v[c] += vec[static_cast<std::size_t>(c)].total();
+    s += scalar.total();
   }
 };
 

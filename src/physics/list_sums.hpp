@@ -151,12 +151,14 @@ template <class K, int D>
                                                            std::span<const std::uint32_t> js, double& sum_i) {
   const Vec<D> xi = d.pos[i];
   const double mi = d.mass[i];
+  LaneSum lanes;  // i's sum (lane_sums.hpp)
   for (std::size_t q = 0; q < js.size(); ++q) {
     const std::uint32_t j = js[q];
     const PairValues w = pair_kernel_values<K>(d.scales[i], d.scales[j], std::sqrt(norm2(xi - d.pos[j])));
-    sum_i += density_term(d.mass[j], w.j);
+    lanes.add(q, density_term(d.mass[j], w.j));
     if (j < d.writable) d.sums[j] += density_term(mi, w.i);
   }
+  sum_i += lanes.total();
 }
 
 // What the forces of a list read and write: acc[j] (and du_dt[j] with pressure) for j < writable.

@@ -60,7 +60,7 @@ namespace sphdisk::list_avx512 {
 // The scatter density's pair terms (add_scatter_list_scalar, list_sums.hpp) with the cubic kernel in
 // 2D, eight partners per round: distances, both kernel values (CubicSpline::w, kernels.hpp, with
 // its operations in its order) and the mass-weighted terms formed for all eight, then added to i's
-// sum and to the writable partners' pair by pair in list order.
+// eight lanes of sums (lane_sums.hpp) and to the writable partners' in list order.
 [[gnu::target("avx512f,avx512vl")]] void scatter_list_avx512(const ScatterListData<2>& d, std::uint32_t i,
                                                              const std::uint32_t* js, std::size_t n, double& sum_i) {
   const double* pos = reinterpret_cast<const double*>(d.pos);
@@ -69,7 +69,8 @@ namespace sphdisk::list_avx512 {
   const __m512d xi = _mm512_set1_pd(d.pos[i][0]), yi = _mm512_set1_pd(d.pos[i][1]);
   const __m512d inv_h_i = _mm512_set1_pd(d.scales[i].inv_h), norm_i = _mm512_set1_pd(d.scales[i].w_norm);
   const __m512d mi = _mm512_set1_pd(d.mass[i]);
-  alignas(64) double to_i[8], to_j[8];
+  __m512d lanes = _mm512_setzero_pd();
+  alignas(64) double to_j[8];
   for (std::size_t q = 0; q < n; q += 8) {
     const std::size_t count = std::min<std::size_t>(8, n - q);
     const avx512::Round8 r = avx512::round8(js + q, count);
@@ -79,14 +80,15 @@ namespace sphdisk::list_avx512 {
     const __m512d dist = _mm512_maskz_sqrt_pd(0xFF, avx512::squared_norms(_mm512_sub_pd(xi, xj), _mm512_sub_pd(yi, yj)));
     const __m512d Wi = _mm512_mul_pd(norm_i, cubic_w(_mm512_mul_pd(dist, inv_h_i)));
     const __m512d Wj = _mm512_mul_pd(norm_j, cubic_w(_mm512_mul_pd(dist, inv_h_j)));
-    _mm512_store_pd(to_i, _mm512_mul_pd(avx512::load_singles(d.mass, r), Wj));
+    const auto live = static_cast<__mmask8>((1u << count) - 1u);
+    lanes = _mm512_mask_add_pd(lanes, live, lanes, _mm512_mul_pd(avx512::load_singles(d.mass, r), Wj));
     _mm512_store_pd(to_j, _mm512_mul_pd(mi, Wi));
     for (std::size_t k = 0; k < count; ++k) {
-      sum_i += to_i[k];
       const std::uint32_t j = js[q + k];
       if (j < d.writable) d.sums[j] += to_j[k];
     }
   }
+  sum_i += lane_total(lanes);
 }
 
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
