@@ -23,30 +23,22 @@ template <int D, class T>
 Mat<D, T> turned_with_orbit(const Mat<D, T>& S, const Vec<D>& from, const Vec<D>& to) {
   const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
   const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
-  if constexpr (D == 3) {
-    // The products of the general form below that are not by the rotation's zeros and its one, in
-    // its order: R turns rows 0 and 1 of S, R^T columns 0 and 1 of R S; row and column 2 of the
-    // product pass through. The same values (a sum of exactly zero may differ in its sign).
-    const Mat<3> a = as_double(S);
-    Mat<3> t = a;  // R S
-    for (int k = 0; k < 3; ++k) {
-      t(0, k) = c * a(0, k) + -s * a(1, k);
-      t(1, k) = s * a(0, k) + c * a(1, k);
-    }
-    Mat<3> m = t;  // (R S) R^T
-    for (int i = 0; i < 3; ++i) {
-      m(i, 0) = t(i, 0) * c + t(i, 1) * -s;
-      m(i, 1) = t(i, 0) * s + t(i, 1) * c;
-    }
-    Mat<D, T> out;
-    store(out, m);
-    return norms > 0 ? out : S;
+  // R = [[c, -s], [s, c]] (and 1 for z): R turns rows 0 and 1 of S, R^T columns 0 and 1 of R S; in
+  // 3D row and column 2 pass through. The products of R S R^T written out, without those by the
+  // rotation's zeros and its one (a sum of exactly zero may differ in its sign).
+  const Mat<D> a = as_double(S);
+  Mat<D> t = a;  // R S
+  for (int k = 0; k < D; ++k) {
+    t(0, k) = c * a(0, k) + -s * a(1, k);
+    t(1, k) = s * a(0, k) + c * a(1, k);
   }
-  Mat<D> R = identity<D>(), Rt = identity<D>();
-  R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
-  Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
+  Mat<D> m = t;  // (R S) R^T
+  for (int i = 0; i < D; ++i) {
+    m(i, 0) = t(i, 0) * c + t(i, 1) * -s;
+    m(i, 1) = t(i, 0) * s + t(i, 1) * c;
+  }
   Mat<D, T> out;
-  store(out, R * as_double(S) * Rt);
+  store(out, m);
   return norms > 0 ? out : S;
 }
 

@@ -73,32 +73,41 @@ TEST(OrbitDrift, EqualsThePerParticleRoutinesOnEveryPath) {
   }
 }
 
-// The 3D turn, written out for the rotation about z, against the general product R S R^T: the same
-// values (a zero may differ in its sign), with the z row and column carried through.
-TEST(OrbitDrift, ThreeDimensionalTurnIsTheRotationsProduct) {
+// The turn, written out for the rotation about z, against the general product R S R^T: the same
+// values (a zero may differ in its sign), in 3D with the z row and column carried through.
+template <int D>
+void check_turn_is_the_rotations_product() {
   std::mt19937_64 g(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
-    Mat<3, ReducedReal> S;
+    Mat<D, ReducedReal> S;
     for (auto& c : S.c) c = static_cast<ReducedReal>(u(g));
-    const Vec<3> from{u(g), u(g), u(g)}, to{u(g), u(g), u(g)};
+    Vec<D> from, to;
+    for (int k = 0; k < D; ++k) from[k] = u(g), to[k] = u(g);
     const double norms = std::sqrt((from[0] * from[0] + from[1] * from[1]) * (to[0] * to[0] + to[1] * to[1]));
     const double c = (from[0] * to[0] + from[1] * to[1]) / norms, s = (from[0] * to[1] - from[1] * to[0]) / norms;
-    Mat<3> R = identity<3>(), Rt = identity<3>();
+    Mat<D> R = identity<D>(), Rt = identity<D>();
     R(0, 0) = c, R(0, 1) = -s, R(1, 0) = s, R(1, 1) = c;
     Rt(0, 0) = c, Rt(0, 1) = s, Rt(1, 0) = -s, Rt(1, 1) = c;
-    Mat<3, ReducedReal> expected;
+    Mat<D, ReducedReal> expected;
     store(expected, R * as_double(S) * Rt);
-    const Mat<3, ReducedReal> got = turned_with_orbit(S, from, to);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) ASSERT_EQ(got(i, j), expected(i, j)) << "trial " << trial << ", (" << i << ", " << j << ")";
-    ASSERT_EQ(got(2, 2), S(2, 2));
+    const Mat<D, ReducedReal> got = turned_with_orbit(S, from, to);
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) ASSERT_EQ(got(i, j), expected(i, j)) << D << "D, trial " << trial << ", (" << i << ", " << j << ")";
+    if constexpr (D == 3) ASSERT_EQ(got(2, 2), S(2, 2));
   }
   // At the origin nothing is turned.
-  Mat<3, ReducedReal> S;
+  Mat<D, ReducedReal> S;
   for (auto& c : S.c) c = static_cast<ReducedReal>(u(g));
-  const Mat<3, ReducedReal> same = turned_with_orbit(S, Vec<3>{0, 0, 1}, Vec<3>{1, 0, 0});
+  Vec<D> origin{}, elsewhere{};
+  elsewhere[0] = 1.0;
+  const Mat<D, ReducedReal> same = turned_with_orbit(S, origin, elsewhere);
   for (std::size_t k = 0; k < S.c.size(); ++k) ASSERT_EQ(same.c[k], S.c[k]);
+}
+
+TEST(OrbitDrift, TurnIsTheRotationsProduct) {
+  check_turn_is_the_rotations_product<2>();
+  check_turn_is_the_rotations_product<3>();
 }
 
 }  // namespace
