@@ -93,9 +93,7 @@ namespace sphdisk::list_avx512 {
 
 #ifndef SPHDISK_SINGLE_PRECISION_FIELDS  // (stresses stored as double)
 // A round's pair accelerations ((x, y) per pair in to_i and to_j) added to i's sum and subtracted
-// from (Subtract; else added to) the writable partners' accelerations, pair by pair in list order
-// (SSE2, in either path).
-template <bool Subtract>
+// from the writable partners' accelerations, pair by pair in list order (SSE2).
 [[gnu::always_inline]] inline void add_round(const ForceListData<2>& d, const std::uint32_t* js, std::size_t count,
                                              const double* to_i, const double* to_j, __m128d& sum) {
   for (std::size_t k = 0; k < count; ++k) {
@@ -104,7 +102,7 @@ template <bool Subtract>
     if (j < d.writable) {
       double* a = d.acc[j].c.data();
       const __m128d t = _mm_load_pd(to_j + 2 * k);
-      _mm_storeu_pd(a, Subtract ? _mm_sub_pd(_mm_loadu_pd(a), t) : _mm_add_pd(_mm_loadu_pd(a), t));
+      _mm_storeu_pd(a, _mm_sub_pd(_mm_loadu_pd(a), t));
     }
   }
 }
@@ -148,7 +146,7 @@ template <bool Subtract>
     const __m512d bx = _mm512_mul_pd(fx, mi), by = _mm512_mul_pd(fy, mi);
     interleave(ax, ay, to_i);
     interleave(bx, by, to_j);
-    add_round<true>(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
+    add_round(d, js + q, std::min<std::size_t>(8, n - q), to_i, to_j, sum);
   }
   _mm_storeu_pd(ai.c.data(), sum);
 }
