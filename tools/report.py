@@ -324,15 +324,16 @@ def parse_args(argv):
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     out_dir = args.out or os.path.join(args.run_dir, "report")
+    who = "sphdisk" if args.sphdisk else "report.py"  # `sphdisk report` passes --sphdisk
     try:
         md = make_report(args.run_dir, out_dir, args.sphdisk)
     except UsageError as e:
-        print(f"report.py: error: {e}", file=sys.stderr)
+        print(f"{who}: error: {e}", file=sys.stderr)
         return 2
     except Exception as e:  # one-line message for any other failure
         if args.traceback:
             raise
-        print(f"report.py: error: {type(e).__name__}: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"{who}: error: {type(e).__name__}: {' '.join(str(e).split())}", file=sys.stderr)
         return 1
     print(f"wrote {md}")
     return 0

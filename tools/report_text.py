@@ -13,6 +13,15 @@ from run_data import largest_change
 SOLAR_UNITS = [("UnitLength_in_cm", "length", 6.957e10, "R☉"), ("UnitMass_in_g", "mass", 1.98841e33, "M☉")]
 
 
+def run_wall_time(wall):
+    """Wall seconds of the steps kept in diagnostics.csv and the number of processes that ran them:
+    the column counts from each start or resume, so it drops where a resume begins, and the total
+    is the sum of each part's last value."""
+    wall = [float(w) for w in wall]
+    ends = [a for a, b in zip(wall, wall[1:]) if b < a] + wall[-1:]
+    return sum(ends), len(ends)
+
+
 def fmt(value):
     """Compact text for a table cell; "–" for a missing or non-finite number."""
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
@@ -54,7 +63,7 @@ def span_text(run, all_stats):
     if run.ring_run and first.tau is not None and last.tau is not None:
         text += f", τ = {first.tau:.4g} to {last.tau:.4g}"
     if run.diag is not None:
-        text += f"; {fmt(run.diag['step'][-1])} steps, wall time {run.diag['wall_time'][-1]:.4g} s"
+        text += f"; {fmt(run.diag['step'][-1])} steps, wall time {run_wall_time(run.diag['wall_time'])[0]:.4g} s"
     return text + f"; {len(all_stats)} snapshots"
 
 
@@ -197,8 +206,10 @@ def section_diagnostics(run):
     else:
         last = {c: run.diag[c][-1] for c in ("step", "tau", "time", "wall_time")}
         when = f"τ = {last['tau']:.6g}" if run.ring_run else f"t = {last['time']:.6g}"
-        lines += [f"Wall time: {last['wall_time']:.6g} s (diagnostics.csv last row: step {fmt(last['step'])}, "
-                  f"{when}).", ""]
+        total, parts = run_wall_time(run.diag["wall_time"])
+        over = f", the sum over the run and its {parts - 1} resume(s)" if parts > 1 else ""
+        lines += [f"Wall time: {total:.6g} s (diagnostics.csv to its last row: step {fmt(last['step'])}, "
+                  f"{when}{over}).", ""]
     if run.timers:
         lines += ["Timers (timers.json):", ""] + table(["phase", "seconds"], list(run.timers.items())) + [""]
     return lines

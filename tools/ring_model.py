@@ -44,11 +44,15 @@ class Ring:
 
 
 def is_ring_run(header, params):
-    """A ring run: Header `Problem` is "ring"; without that attribute (older files), unless the run
-    started from a file (non-empty /Parameters problem.initial_conditions)."""
+    """A ring run: Header `Problem` is "ring"; without that attribute (older files, or files made by
+    hand), where the Header has the ring's positive ViscousTime, KinematicViscosity and DiskMass and
+    the run did not start from a file (non-empty /Parameters problem.initial_conditions), as
+    `sphdisk analyze` decides (src/app/disc_profiles.cpp, is_ring_snapshot)."""
     problem = header.get("Problem")
     if problem is not None:
-        return str(problem).strip().strip('"') == "ring"
+        return (problem.decode() if isinstance(problem, bytes) else str(problem)).strip().strip('"') == "ring"
+    if not all(float(header.get(k, 0)) > 0 for k in ("ViscousTime", "KinematicViscosity", "DiskMass")):
+        return False
     start_file = (params or {}).get("problem.initial_conditions")
     return not (start_file is not None and str(start_file).strip().strip('"'))
 

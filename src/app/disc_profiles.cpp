@@ -29,6 +29,8 @@ double point_mass_gm(const SnapshotMeta& meta) {
 
 bool is_ring_snapshot(const SnapshotMeta& meta) {
   if (!meta.problem.empty()) return meta.problem == "ring";
+  // Without Problem: the ring only where the file has its Header attributes (an sphdisk ring's).
+  if (!(meta.tau > 0 && meta.viscosity > 0 && meta.disc_mass > 0)) return false;
   const std::string ic = meta.parameter("problem.initial_conditions");
   return ic.empty() || ic == "\"\"";
 }

@@ -34,7 +34,8 @@ struct DiscProfiles {
 };
 
 // The ring set-up, with its analytic solution: Header Problem = "ring", or, in files without it,
-// a run that read no initial conditions from a file.
+// one with the ring's positive ViscousTime, KinematicViscosity and DiskMass from a run that read no
+// initial conditions from a file (any other file gets radial profiles).
 bool is_ring_snapshot(const SnapshotMeta& meta);
 
 // nbins bins over [r_min, r_max] in the file's length unit; r_max <= r_min: the particles' extent.

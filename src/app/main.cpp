@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);  // one value per --set, so a positional may follow
   run->add_option("--output,-o", output_dir, "output directory (overrides output.dir)");
   run->add_flag("--overwrite", overwrite, "replace the results of an earlier run in the output directory");
-  run->add_option("--threads,-t", threads, "threads (overrides run.threads)");
+  run->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(CLI::Range(0, 4096));
   run->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   run->add_flag("--quiet,-q", quiet, "no progress lines");
   run->add_flag("--help-config", help_config, "list every configuration key with its default and exit");
@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
   resume->add_option("dir", run_dir, "run directory holding checkpoint.hdf5")->required();
   resume->add_option("--set", overrides, "override a key, e.g. run.threads or a longer output.tau (repeatable)")
       ->allow_extra_args(false);
-  resume->add_option("--threads,-t", threads, "threads (overrides run.threads)");
+  resume->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(CLI::Range(0, 4096));
   resume->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   resume->add_flag("--quiet,-q", quiet, "no progress lines");
 
@@ -253,7 +253,9 @@ int main(int argc, char** argv) {
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
       const sphdisk::Config cfg = sphdisk::load_config(config_path, overrides);
       if (check_only) {
-        std::cout << cfg.resolved_toml;
+        // "auto" neighbours resolve from N here; from a file, once it is read.
+        std::cout << (cfg.initial_conditions.empty() ? sphdisk::with_neighbours_resolved(cfg, static_cast<double>(cfg.particles))
+                                                     : cfg).resolved_toml;
         return 0;
       }
       const sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet, false, command_line(argc, argv)};

@@ -208,7 +208,7 @@ std::string ring_comparison_table(const RingComparison& c) {
   if (c.sph_sigma)
     std::snprintf(line, sizeof line,
                   "L1 error of binned particle Sigma (SPH estimate, P98 Fig. 8): %.4f; in the core (0.9-1.1 r0) %+.1f%%, "
-                  "%+.1f%% without the self term m W(0, h), which pressureless, unordered particles never offset\n",
+                  "%+.1f%% without the self term m W(0, h), which disordered particles do not offset\n",
                   c.sigma_l1, 100 * c.core_sigma_bias, 100 * c.core_sigma_noself_bias);
   else
     std::snprintf(line, sizeof line,

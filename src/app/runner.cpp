@@ -72,12 +72,14 @@ Runner<D>::Runner(const Config& cfg, const RunOptions& opts, std::string dir, Pa
   t_out_ = output_times(cfg, setup_);
   meta_.viscosity = setup_.phys.nu;
   meta_.ring_radius = 1.0;
-  meta_.disc_mass = setup_.sedov ? 1.0 : setup_.ring.solution.disc_mass;  // (the blast wave's cube: mass 1)
+  // The blast wave's cube has mass 1; a run from a file, the mass its particles started with.
+  meta_.disc_mass = setup_.sedov ? 1.0 : s_.initial_mass > 0 ? s_.initial_mass : setup_.ring.solution.disc_mass;
   meta_.energy = cfg.evolve_energy;
   meta_.units = setup_.units;
   meta_.parameters = cfg.resolved;
   meta_.problem = !cfg.initial_conditions.empty() ? "initial_conditions" : setup_.problem_name();
-  meta_.run_id = run_identity(cfg);
+  if (s_.run_id.empty()) s_.run_id = run_identity(cfg);  // a resumed run keeps the identity it started with
+  meta_.run_id = s_.run_id;
   if (distributed()) rates_.set_domain(&domain_);
   rates_.set_pair_storage(pair_storage_from_name(cfg.pair_lists));
   domain_.comm().barrier();  // a common time origin for every rank's trace track
@@ -419,8 +421,8 @@ RunSummary Runner<D>::advance() {
                    interrupted ? "interrupted" : "done", sum.steps, sum.evaluations, sum.particles_final, sum.wall_seconds,
                    sum.particle_updates_per_second, sum.particle_updates_per_second / (par::max_threads() * domain_.comm().size()),
                    domain_.comm().size(), integrator_->rejected_steps());
-    if (stopped_early)
-      run_log::print(terminal(),
+    if (stopped_early)  // (with --quiet too: the run is not finished)
+      run_log::print(stderr,
                      "stopped by run.max_steps at step %lld, tau %.6g: state in %s and %s; continue with: sphdisk resume %s "
                      "(each resume takes up to run.max_steps steps; --set run.max_steps=0 runs to the end)\n",
                      s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, static_cast<std::size_t>(s_.next_output) + 1).c_str(),

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "app/run_directory.hpp"
+#include "app/run_identity.hpp"
 #include "app/run_log.hpp"
 #include "app/run_setup.hpp"
 #include "app/runner.hpp"
@@ -16,6 +17,7 @@
 #include "io/distributed_output.hpp"
 #include "io/snapshot.hpp"
 #include "parallel/loops.hpp"
+#include "parallel/order_free_sum.hpp"
 #include "problems/ring_setup.hpp"
 
 namespace sphdisk {
@@ -76,6 +78,7 @@ RunSummary run_in(Config cfg, const RunOptions& opts, const std::string& dir, co
     state.time = meta.time;
     state.accreted_mass = meta.accreted_mass;
     state.accreted_angular_momentum = meta.accreted_angular_momentum;
+    state.initial_mass = order_free_sum(comm, p.mass) + meta.accreted_mass;
     cfg = with_neighbours_resolved(cfg, comm.sum_in_rank_order(static_cast<double>(p.size())));
   } else {
     const auto share = static_cast<std::size_t>(comm.rank()), shares = static_cast<std::size_t>(comm.size());
@@ -135,6 +138,17 @@ RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
 
 namespace {
 
+// The problem.* settings made the particles that the checkpoint holds (their number, masses, units
+// and time origin): a resume that changes one is refused, as the run could not honour it.
+void refuse_changed_problem(const Config& stored, const Config& cfg) {
+  for (std::size_t k = 0; k < cfg.resolved.size() && k < stored.resolved.size(); ++k) {
+    const auto& [key, value] = cfg.resolved[k];
+    if (key.rfind("problem.", 0) == 0 && value != stored.resolved[k].second)
+      throw UserError(key + " cannot change on resume (the checkpoint's particles were made with " + key + " = " +
+                      stored.resolved[k].second + "); start a new run with sphdisk run");
+  }
+}
+
 template <int D>
 RunSummary resume_in(const std::string& path, const std::string& dir, const RunOptions& opts,
                      const std::vector<std::string>& overrides) {
@@ -144,19 +158,28 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   // A checkpoint records every key; one written before a key existed, or before its default
   // changed, continues with what it ran then (unless the user overrides it): eq. 6's conservative
   // form, the summed densities' ratio, and the leapfrog on stored lists.
-  std::vector<std::string> all_overrides = overrides;
+  std::vector<std::string> earlier_defaults;
   for (const auto& [key, earlier] : {std::pair{"viscous_force", "sph.viscous_force=\"conservative\""},
                                      std::pair{"pair_density", "sph.pair_density=\"summation\""},
                                      std::pair{"av_switch", "physics.av_switch=\"none\""},
                                      std::pair{"scheme", "integrator.scheme=\"leapfrog\""},
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
-    if (state.config_toml.find(key) == std::string::npos) all_overrides.insert(all_overrides.begin(), earlier);
+    if (state.config_toml.find(key) == std::string::npos) earlier_defaults.emplace_back(earlier);
+  std::vector<std::string> all_overrides = earlier_defaults;
+  all_overrides.insert(all_overrides.end(), overrides.begin(), overrides.end());
   // "auto" neighbours given on resume: from the particles the run has now.
-  const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides),
-                                              comm.sum_in_rank_order(static_cast<double>(p.size())));
+  const double particles = comm.sum_in_rank_order(static_cast<double>(p.size()));
+  const Config stored = with_neighbours_resolved(parse_config(state.config_toml, path, earlier_defaults), particles);
+  const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides), particles);
   if (cfg.dimension != D)
     throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
+  refuse_changed_problem(stored, cfg);
+  if (state.next_output >= static_cast<long long>(output_times(cfg, make_setup(cfg)).size()))
+    throw UserError("the run in '" + dir + "' is complete (every output written); to go on, resume it with later output "
+                    "times, e.g. --set 'output.tau=[0.09, 0.2]' (or output.times, output.orbits, as the run gives them)");
+  // A checkpoint from before format 11 names no identity: its run's is that of its stored settings.
+  if (state.run_id.empty()) state.run_id = run_identity(stored);
   // Later checkpoints record what this run continues with, overrides included, so that a second
   // resume keeps them.
   state.config_toml = cfg.resolved_toml;

@@ -60,7 +60,7 @@ struct Config {
   double smoothing_length = 0;     // constant smoothing: in units of ring_radius; 0: from sph.neighbours
   std::string pair_lists = "rescan";  // rescan | stored (rate_evaluator.hpp, PairStorage)
   // [integrator]
-  std::string scheme = "block";  // block | leapfrog | respa | rk23 | rk45
+  std::string scheme = "block";  // block | leapfrog | respa | rk45
   double tolerance = 1e-6;
   double orbital_factor = 0.25, force_factor = 0.25, viscous_factor = 0.1, courant_factor = 0.3;
   double substep_factor = 0.05;     // respa: gravity substeps <= factor / Omega

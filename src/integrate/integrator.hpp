@@ -19,7 +19,7 @@
 
 namespace sphdisk {
 
-enum class Scheme { Leapfrog, Respa, Block, RK23, RK45 };
+enum class Scheme { Leapfrog, Respa, Block, RK45 };
 Scheme scheme_from_name(const std::string& name);
 
 // How the block scheme advances the hydrodynamic rates over a particle's step: explicit kicks, whose

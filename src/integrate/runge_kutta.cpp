@@ -1,5 +1,5 @@
-// Embedded explicit Runge-Kutta with error control: the paper's integrator with an "error
-// tolerance" (P98 sec. 5.3). The state is y = (x, v, u) with dy/dt = (v, a, du/dt). Each stage is a
+// Embedded explicit Runge-Kutta with error control (Dormand-Prince 5(4)): the paper's integrator
+// with an "error tolerance" (P98 sec. 5.3). The state is y = (x, v, u) with dy/dt = (v, a, du/dt). Each stage is a
 // full rate evaluation. The error estimate is the difference between the two embedded solutions,
 // measured relative to each particle's |x| and |v| (relative tolerance, as miluphcuda uses on
 // positions); steps with error > tolerance are rejected and retried. The higher-order solution is
@@ -24,14 +24,6 @@ struct Tableau {
   std::vector<std::vector<double>> a;  // a[s][l], l < s
   std::vector<double> b_high, b_low;
 };
-
-// Bogacki & Shampine (1989), 3rd order with 2nd-order error estimate, FSAL.
-Tableau bogacki_shampine() {
-  return {4, 3, {0, 0.5, 0.75, 1.0},
-          {{}, {0.5}, {0, 0.75}, {2.0 / 9, 1.0 / 3, 4.0 / 9}},
-          {2.0 / 9, 1.0 / 3, 4.0 / 9, 0},
-          {7.0 / 24, 0.25, 1.0 / 3, 0.125}};
-}
 
 // Dormand & Prince (1980), 5th order with 4th-order error estimate, FSAL.
 Tableau dormand_prince() {
@@ -192,8 +184,7 @@ std::unique_ptr<Integrator<D>> make_block_leapfrog(const IntegratorParams& param
 
 Scheme scheme_from_name(const std::string& name) {
   static constexpr NamedChoice<Scheme> kNames[] = {{"block", Scheme::Block}, {"leapfrog", Scheme::Leapfrog},
-                                                   {"respa", Scheme::Respa}, {"rk23", Scheme::RK23},
-                                                   {"rk45", Scheme::RK45}};
+                                                   {"respa", Scheme::Respa}, {"rk45", Scheme::RK45}};
   return choice_from_name<Scheme>("integrator.scheme", name, kNames);
 }
 
@@ -206,7 +197,6 @@ ViscousUpdate viscous_update_from_name(const std::string& name) {
 template <int D>
 std::unique_ptr<Integrator<D>> make_integrator(const IntegratorParams& params, RateSource<D>& rates) {
   switch (params.scheme) {
-    case Scheme::RK23: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, bogacki_shampine());
     case Scheme::RK45: return std::make_unique<EmbeddedRungeKutta<D>>(params, rates, dormand_prince());
     case Scheme::Block: return make_block_leapfrog<D>(params, rates);
     case Scheme::Leapfrog:

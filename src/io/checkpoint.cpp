@@ -39,7 +39,10 @@ namespace {
 // for all (resumed without the switch, app/simulation.cpp), set anew on resume (app/runner.cpp).
 // Format 10 (2026-12-05): the scatter density (scatter_density, a kRateState field absent where
 // unused: kScatterDensityOnly), which earlier files never hold: their runs compared summed densities.
-constexpr long long kFormatVersion = 10;
+// Format 11 (2026-12-07): the run's identity (attribute RunID), which its resumes keep whatever
+// settings they override (earlier files' runs take it from their stored configuration), and a run
+// from a file's initial mass (InitialMass), both in the checksum where present.
+constexpr long long kFormatVersion = 11;
 constexpr long long kOldestFormatRead = 2;
 
 // The format that added a checkpoint field to files that could have held it before (0: none).
@@ -91,6 +94,8 @@ std::uint64_t state_hash(const RunState& s) {
   if (s.rate_state) c.add(1LL);  // (absent from earlier formats' hashes)
   if (s.step_state) c.add(2LL);  // (absent from formats before 5)
   c.add(s.config_toml.data(), s.config_toml.size());
+  if (!s.run_id.empty()) c.add(s.run_id.data(), s.run_id.size());  // (absent before format 11)
+  if (s.initial_mass > 0) c.add(s.initial_mass);                      // (absent before format 11)
   return c.h;
 }
 
@@ -145,6 +150,8 @@ void write_checkpoint_share(const std::string& path, const Communicator& comm, s
     h5::write_attr(g, "IntegratorState", s.integrator.empty() ? std::vector<double>{0.0} : s.integrator);
     h5::write_attr(g, "IntegratorStateSize", static_cast<long long>(s.integrator.size()));
     h5::write_attr(g, "Config", s.config_toml);
+    if (!s.run_id.empty()) h5::write_attr(g, "RunID", s.run_id);
+    if (s.initial_mass > 0) h5::write_attr(g, "InitialMass", s.initial_mass);
     h5::write_attr(g, "NumParticles", static_cast<long long>(n));
     h5::write_attr(g, "Checksum", std::to_string(total));
     h5::write_attr(g, "RateState", s.rate_state ? 1LL : 0LL);
@@ -224,6 +231,9 @@ ReadShare<D> read_checkpoint_unisolated(const std::string& path, RunState& s, h5
     throw UserError("'" + path + "': checkpoint integrator state is inconsistent (corrupt file?)");
   s.integrator.resize(static_cast<std::size_t>(state_size));
   s.config_toml = h5::read_attr_string(g, "Config", path);
+  s.run_id = out.version >= 11 && h5::exists_attr(g, "RunID") ? h5::read_attr_string(g, "RunID", path) : "";
+  s.initial_mass = out.version >= 11 && h5::exists_attr(g, "InitialMass") ? num("InitialMass") : 0.0;
+  if (!(s.initial_mass >= 0)) throw UserError("'" + path + "': checkpoint attribute 'InitialMass' is not valid (corrupt file?)");
   s.rate_state = out.version >= 4 && num("RateState") != 0;
   s.step_state = out.version >= 5 && num("StepState") != 0;
   // The fields its writer left out (core/particles.hpp): neither stored nor counted in the checksum.

@@ -30,6 +30,10 @@ struct RunState {
                                     // in it too, and `integrator` is the step's state
                                     // (Integrator::step_state; time and step are those before it)
   std::string config_toml;          // resolved configuration of the run
+  std::string run_id;               // the run's identity as it started (app/run_identity.hpp), kept
+                                    // by its resumes whatever they override; "" before format 11
+  double initial_mass = 0;          // a run from a file: its particles' and accreted mass at the start
+                                    // (Header DiskMass); 0: problem.disc_mass's (and before format 11)
 };
 
 // The field flags whose fields a checkpoint holds: kCheckpoint, kRateState where the run needs those

@@ -138,8 +138,19 @@ std::string read_attr_string(hid_t obj, const std::string& name, const std::stri
   if (!has_attr(obj, name)) fail("'" + file + "' lacks the attribute '" + name + "'");
   Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose);
   Handle type(H5Aget_type(attr), H5Tclose);
-  if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0)
-    fail("'" + file + "': attribute '" + name + "' is not a fixed-length string");
+  if (H5Tget_class(type) != H5T_STRING) fail("'" + file + "': attribute '" + name + "' is not a string");
+  if (H5Tis_variable_str(type) > 0) {  // as h5py writes a Python str
+    Handle space(H5Aget_space(attr), H5Sclose);
+    if (H5Sget_simple_extent_npoints(space) != 1) fail("'" + file + "': attribute '" + name + "' is not one string");
+    Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(memory, H5T_VARIABLE);
+    H5Tset_cset(memory, H5Tget_cset(type));
+    char* text = nullptr;
+    if (H5Aread(attr, memory, &text) < 0) fail("'" + file + "': cannot read attribute '" + name + "'");
+    std::string v = text != nullptr ? text : "";
+    H5free_memory(text);
+    return v;
+  }
   const std::size_t size = H5Tget_size(type);
   if (size == 0 || size > (1u << 26)) fail("'" + file + "': attribute '" + name + "' has an invalid size");
   std::string v(size, '\0');

@@ -14,6 +14,8 @@ param() { /usr/bin/python3 -c "import h5py,sys; print(h5py.File(sys.argv[1])['Pa
 "$sphdisk" run "$config" "${one_step[@]}" --set problem.particles=20000 -o "$work/a" > /dev/null
 [ "$(recorded "$work/a")" = 85.0 ] && ok "20,000 particles: config.toml records 85" || bad "config.toml records '$(recorded "$work/a")' for 20,000 particles, not 85.0"
 [ "$(param "$work/a/snapshot_001.hdf5")" = 85.0 ] && ok "the snapshot's /Parameters records 85" || bad "/Parameters sph.neighbours is '$(param "$work/a/snapshot_001.hdf5")'"
+checked=$("$sphdisk" run "$config" --check --set problem.particles=20000 | grep -E '^neighbours = ' | cut -d' ' -f3)
+[ "$checked" = 85.0 ] && ok "run --check prints the number the run will use, 85" || bad "run --check prints neighbours = '$checked'"
 "$sphdisk" resume "$work/a" -q --set run.max_steps=2 > /dev/null
 [ "$(recorded "$work/a")" = 85.0 ] && [ "$(param "$work/a/snapshot_001.hdf5")" = 85.0 ] &&
   ok "a resume keeps 85" || bad "after a resume: '$(recorded "$work/a")', '$(param "$work/a/snapshot_001.hdf5")'"

@@ -50,6 +50,7 @@ expect_error super-steps-name "integrator.viscous_update must be one of" -- run 
 expect_error gradient-correction-name "sph.gradient_correction must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.gradient_correction="shepard"' -o "$work/o1"
 expect_error pair-lists-name "sph.pair_lists must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.pair_lists="none"' -o "$work/o1"
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
+expect_error negative-threads "threads: Value -1 not in range" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 
 # A particle count that cannot fit in memory is refused up front with the estimate.
@@ -115,7 +116,7 @@ else
 fi
 
 # A run stopped by run.max_steps leaves a checkpoint that `resume` continues.
-"$sphdisk" run -q "${small[@]}" --set run.max_steps=2 -o "$work/short" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
+"$sphdisk" run -q "${small[@]}" --set 'integrator.scheme="leapfrog"' --set run.max_steps=2 -o "$work/short" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1
 if [ -f "$work/short/checkpoint.hdf5" ] && "$sphdisk" resume -q "$work/short" > /dev/null 2>&1; then
   passed=$((passed + 1))
 else

@@ -32,8 +32,9 @@ run --set run.max_steps=2 -o "$dir" > "$work/out" 2> "$work/err"
 rc=$?
 snap=$dir/snapshot_001.hdf5
 if [ $rc -eq 0 ] && [ "$(attr "$snap" Header Step)" = 2 ] && [ "$(attr "$dir/checkpoint.hdf5" Checkpoint Step)" = 2 ] &&
-   [ "$(attr "$snap" Header Time)" = "$(attr "$dir/checkpoint.hdf5" Checkpoint Time)" ] && [ ! -e "$dir/snapshot_002.hdf5" ]; then
-  ok "run.max_steps=2: snapshot_001 and the checkpoint hold step 2 (time $(attr "$snap" Header Time))"
+   [ "$(attr "$snap" Header Time)" = "$(attr "$dir/checkpoint.hdf5" Checkpoint Time)" ] && [ ! -e "$dir/snapshot_002.hdf5" ] &&
+   grep -q "^stopped by run.max_steps at step 2" "$work/err"; then
+  ok "run.max_steps=2: snapshot_001 and the checkpoint hold step 2 (time $(attr "$snap" Header Time)); with -q the stop is still said"
 else
   bad "run.max_steps=2: rc=$rc; files: $(ls "$dir" 2> /dev/null) $(cat "$work/err")"
 fi
@@ -71,7 +72,8 @@ else
   bad "run.max_steps=5: files $(ls "$dir")"
 fi
 
-# A chain of resumes of 3 steps each (run.max_steps stays in the stored configuration).
+# A chain of resumes of 3 steps each (run.max_steps stays in the stored configuration); once the
+# run is finished a further resume is refused.
 dir=$work/chain
 run --set run.max_steps=3 -o "$dir" > /dev/null 2>&1
 steps=()
@@ -79,8 +81,8 @@ for _ in 1 2 3 4; do
   "$sphdisk" resume -q "$dir" > /dev/null 2>&1 || break
   steps+=("$(attr "$dir/checkpoint.hdf5" Checkpoint Step)")
 done
-if [ "${steps[*]}" = "6 9 10 10" ] && same_as_reference "$dir"; then
-  ok "resumes of 3 steps each (checkpoints at steps ${steps[*]}): the reference's outputs"
+if [ "${steps[*]}" = "6 9 10" ] && same_as_reference "$dir"; then
+  ok "resumes of 3 steps each (checkpoints at steps ${steps[*]}, the fourth refused: the run is complete): the reference's outputs"
 else
   bad "chain of resumes: checkpoints at steps ${steps[*]}"
 fi

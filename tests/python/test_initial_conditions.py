@@ -110,6 +110,45 @@ def output_times_and_disc_analysis(exe, config, ic, tmp):
     return checks
 
 
+def file_of_another_mass(exe, config, tmp):
+    """A file as h5py writes it (Header Problem a Python str, a variable-length string), of another
+    total mass than problem.disc_mass: `analyze` reads it and, without the ring's Header attributes,
+    gives radial profiles; a run from it records the file's mass as its initial disc mass
+    (Header DiskMass), so its mass budget is that of round-off."""
+    n = 1500
+    rng = np.random.default_rng(8)
+    r = np.sqrt(rng.uniform(0.8**2, 1.2**2, n))
+    phi = rng.uniform(0, 2 * np.pi, n)
+    v = 1 / np.sqrt(r)
+    masses = rng.uniform(0.5, 1.5, n) * 1e-6 / n
+    checks = []
+    for name, problem in (("plain.hdf5", None), ("h5py_str.hdf5", "initial_conditions")):
+        with h5py.File(tmp / name, "w") as f:
+            h = f.create_group("Header")
+            h.attrs["Time"] = 0.0
+            if problem:
+                h.attrs["Problem"] = problem
+            g = f.create_group("PartType0")
+            g["Coordinates"] = np.c_[r * np.cos(phi), r * np.sin(phi), np.zeros(n)]
+            g["Velocities"] = np.c_[-v * np.sin(phi), v * np.cos(phi), np.zeros(n)]
+            g["Masses"] = masses
+            g["ParticleIDs"] = np.arange(1, n + 1, dtype=np.uint64)
+        a = subprocess.run([exe, "analyze", str(tmp / name)], capture_output=True, text=True)
+        checks.append((f"analyze of a hand-made file ({'Problem a variable-length string' if problem else 'no Problem'}): "
+                       "radial profiles", a.returncode == 0 and "Mdot_in" in a.stdout))
+    out = tmp / "other_mass"
+    run = subprocess.run([exe, "run", str(config), "-o", str(out), "--set", f'problem.initial_conditions="{tmp / "h5py_str.hdf5"}"',
+                          "--set", "output.times=[0.5]", "--set", "output.progress_interval=0"], capture_output=True, text=True)
+    ok = run.returncode == 0
+    if ok:
+        with h5py.File(out / "snapshot_001.hdf5") as s1:
+            disc_mass = s1["Header"].attrs["DiskMass"]
+        budget = [line for line in run.stdout.splitlines() if line.startswith("mass budget")]
+        ok = abs(disc_mass / masses.sum() - 1) < 1e-14 and len(budget) == 1 and abs(float(budget[0].split()[-1])) < 1e-12
+    checks.append(("a file of another mass than problem.disc_mass: DiskMass is the file's, the mass budget round-off", ok))
+    return checks
+
+
 def main():
     exe = sys.argv[1]
     checks = []
@@ -151,6 +190,7 @@ def main():
             checks.append(("smoothing length calibrated", s0["PartType0/SmoothingLength"][0] > 0))
         checks += output_times_and_disc_analysis(exe, config, ic, tmp)
         checks += non_finite_stops_with_dump(exe, config, tmp)
+        checks += file_of_another_mass(exe, config, tmp)
     return summarise("initial conditions", checks)
 
 

@@ -32,6 +32,7 @@ sys.dont_write_bytecode = True  # no tools/__pycache__ in the work tree
 import make_test_run  # noqa: E402
 import report  # noqa: E402
 import report_images  # noqa: E402
+import report_text  # noqa: E402
 import ring_model  # noqa: E402
 import run_data  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -163,12 +164,18 @@ def test_ring_measures():
 
 
 def test_ring_rule():
-    """Ring runs: Header Problem "ring"; without Problem, unless started from a file."""
-    cases = [({"Problem": "ring"}, {}, True), ({"Problem": "disc"}, {}, False), ({}, {}, True),
-             ({}, {"problem.initial_conditions": ""}, True), ({}, {"problem.initial_conditions": "ic.hdf5"}, False),
+    """Ring runs: Header Problem "ring"; without Problem, where the ring's Header attributes are there,
+    unless started from a file."""
+    ring = {"ViscousTime": 0.05, "KinematicViscosity": 4.8e-5, "DiskMass": 1e-10}
+    cases = [({"Problem": "ring"}, {}, True), ({"Problem": b"ring"}, {}, True), ({"Problem": "disc"}, {}, False),
+             (ring, {}, True), ({}, {}, False), ({**ring, "ViscousTime": 0.0}, {}, False),
+             (ring, {"problem.initial_conditions": ""}, True), (ring, {"problem.initial_conditions": "ic.hdf5"}, False),
              ({"Problem": "ring"}, {"problem.initial_conditions": "ic.hdf5"}, True)]
     for header, params, want in cases:
         check(ring_model.is_ring_run(header, params) == want, f"is_ring_run({header}, {params}) = {want}")
+    # The wall time of a run and its resumes: diagnostics.csv's column restarts at each resume.
+    check(report_text.run_wall_time([0.5, 1.0, 2.0]) == (2.0, 1), "wall time of one process: its last value")
+    check(abs(report_text.run_wall_time([0.5, 2.0, 0.3, 1.5, 0.2, 0.7])[0] - 4.2) < 1e-12 and report_text.run_wall_time([0.5, 2.0, 0.3, 1.5, 0.2, 0.7])[1] == 3, "wall time over two resumes: the parts' sum")
 
 
 # ----------------------------------------------------------------------------- column-density maps

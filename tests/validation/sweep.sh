@@ -25,7 +25,7 @@ check "the failing run retried, then failed" 'grep -q "^fails,retried,.*,1," $cs
 r1=$(grep "^fails,retried" $csv | cut -d, -f3); r2=$(grep "^fails,failed" $csv | cut -d, -f3)
 check "the retry ran on another rank ($r1 then $r2)" '[ "$r1" != "$r2" ]'
 check "work spread over both worker ranks" '[ "$(cut -d, -f3 $csv | tail -n +2 | sort -u | tr -d "\n")" = "12" ]'
-check "each successful run wrote its snapshots" '[ -f sweep_out/N2000/snapshot_001.hdf5 ] && [ -f sweep_out/N3000/snapshot_001.hdf5 ] && [ -f sweep_out/N2000_rk23/snapshot_001.hdf5 ]'
+check "each successful run wrote its snapshots" '[ -f sweep_out/N2000/snapshot_001.hdf5 ] && [ -f sweep_out/N3000/snapshot_001.hdf5 ] && [ -f sweep_out/N2000_rk45/snapshot_001.hdf5 ]'
 
 "$mpiexec" -np 2 --oversubscribe --allow-run-as-root "$sphdisk" sweep sweep_study.toml > out2.txt 2> err2.txt
 rc=$?

@@ -23,7 +23,7 @@ OMP_NUM_THREADS=1 "$sphdisk" run "$config" "${args[@]}" -o "$work/t1" > /dev/nul
 OMP_NUM_THREADS=3 "$sphdisk" run "$config" "${args[@]}" -o "$work/t3" > /dev/null || bad "3D ring run (3 threads)"
 if same_snapshots "$work/t1" "$work/t3"; then ok "3D: same snapshots with 1 and 3 threads"; else bad "3D: snapshots differ between 1 and 3 threads"; fi
 # The other integrators and pair sources.
-for variant in leapfrog,stored respa,stored rk23,rescan; do
+for variant in leapfrog,stored respa,stored rk45,rescan; do
   IFS=, read -r scheme storage <<< "$variant"
   for t in 1 3; do
     OMP_NUM_THREADS=$t "$sphdisk" run "$config" "${args[@]}" --set "integrator.scheme=\"$scheme\"" --set "sph.pair_lists=\"$storage\"" \

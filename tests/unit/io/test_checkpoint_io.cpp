@@ -367,3 +367,38 @@ TEST(Checkpoint, RefusesAnotherFieldPrecision) {
   if (kSinglePrecisionFields) EXPECT_THROW(read_checkpoint<2>(path.string(), r), UserError);
   else EXPECT_NO_THROW(read_checkpoint<2>(path.string(), r));
 }
+
+// Format 11: the run's identity and a file's initial mass round-trip and enter the checksum (a
+// changed RunID fails it, since a resume keeps the identity it reads); a state without them writes
+// neither attribute and reads back empty.
+TEST(Checkpoint, RunIdentityAndInitialMassRoundTripInTheChecksum) {
+  const Particles<2> p = sample_particles();
+  RunState s = sample_state();
+  s.run_id = "0123456789abcdef";
+  s.initial_mass = 1.25e-6;
+  const fs::path path = temp_file("identity.h5");
+  RunState r;
+  round_trip(p, s, path, r);
+  EXPECT_EQ(r.run_id, s.run_id);
+  EXPECT_EQ(r.initial_mass, s.initial_mass);
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+    H5Adelete(g, "RunID");
+    h5::write_attr(g, "RunID", std::string("fedcba9876543210"));
+  }
+  try {
+    read_checkpoint<2>(path.string(), r);
+    ADD_FAILURE() << "a changed RunID was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum mismatch"), std::string::npos) << e.what();
+  }
+  RunState plain;
+  round_trip(p, sample_state(), temp_file("no_identity.h5"), plain);
+  EXPECT_EQ(plain.run_id, "");
+  EXPECT_EQ(plain.initial_mass, 0.0);
+  h5::Handle f(H5Fopen(temp_file("no_identity.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  h5::Handle g(H5Gopen2(f, "Checkpoint", H5P_DEFAULT), H5Gclose);
+  EXPECT_FALSE(h5::exists_attr(g, "RunID"));
+  EXPECT_FALSE(h5::exists_attr(g, "InitialMass"));
+}
