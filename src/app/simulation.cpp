@@ -169,8 +169,13 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   std::vector<std::string> all_overrides = earlier_defaults;
   all_overrides.insert(all_overrides.end(), overrides.begin(), overrides.end());
   // "auto" neighbours given on resume: from the particles the run has now.
+  // What the checkpoint's particles were made with: its problem.* settings, the user's overrides of
+  // the others (which may replace a retired value the stored configuration names).
+  std::vector<std::string> other_overrides = earlier_defaults;
+  for (const std::string& o : overrides)
+    if (o.rfind("problem.", 0) != 0) other_overrides.push_back(o);
   const double particles = comm.sum_in_rank_order(static_cast<double>(p.size()));
-  const Config stored = with_neighbours_resolved(parse_config(state.config_toml, path, earlier_defaults), particles);
+  const Config stored = with_neighbours_resolved(parse_config(state.config_toml, path, other_overrides), particles);
   const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides), particles);
   if (cfg.dimension != D)
     throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
@@ -178,8 +183,13 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   if (state.next_output >= static_cast<long long>(output_times(cfg, make_setup(cfg)).size()))
     throw UserError("the run in '" + dir + "' is complete (every output written); to go on, resume it with later output "
                     "times, e.g. --set 'output.tau=[0.09, 0.2]' (or output.times, output.orbits, as the run gives them)");
-  // A checkpoint from before format 11 names no identity: its run's is that of its stored settings.
-  if (state.run_id.empty()) state.run_id = run_identity(stored);
+  // A checkpoint from before format 11 names no identity: its run's is the one its first snapshot
+  // records, or without that snapshot that of its settings.
+  if (state.run_id.empty()) {
+    const std::string first = snapshot_name(dir, 0);
+    if (fs::exists(first)) state.run_id = snapshot_run_id(first);
+    if (state.run_id.empty()) state.run_id = run_identity(stored);
+  }
   // Later checkpoints record what this run continues with, overrides included, so that a second
   // resume keeps them.
   state.config_toml = cfg.resolved_toml;

@@ -71,7 +71,7 @@ void write_attr(hid_t obj, const std::string& name, const std::vector<std::uint6
 bool has_attr(hid_t obj, const std::string& name);
 double read_attr_double(hid_t obj, const std::string& name, const std::string& file);  // throws if missing
 std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file);
-std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file);  // fixed-length strings
+std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file);  // fixed- or variable-length
 
 // Datasets of doubles/uint64 with shape rows x cols (cols == 1: a 1-D dataset), created whole and
 // written in blocks of consecutive rows. With a collective transfer list (shared_transfer) every

@@ -213,7 +213,11 @@ void read_analysis_parameters(hid_t file, const std::string& path, SnapshotMeta&
   if (h5::exists(file, "Parameters")) {
     h5::Handle g = h5::open_group(file, "Parameters", path);
     for (const char* key : {"sph.kernel", "problem.initial_conditions"})
-      if (h5::has_attr(g, key)) meta.parameters.emplace_back(key, "\"" + h5::read_attr_string(g, key, path) + "\"");
+      if (h5::has_attr(g, key)) {
+        std::string quoted(1, '"');  // (appended, not "\"" + value: GCC 12 warns of that falsely, -Wrestrict)
+        quoted += h5::read_attr_string(g, key, path);
+        meta.parameters.emplace_back(key, quoted + '"');
+      }
     for (const char* key : {"physics.central_mass", "physics.gamma", "problem.blast_energy"})
       if (h5::has_attr(g, key)) {
         char text[64];
@@ -347,6 +351,15 @@ int snapshot_dimension(const std::string& path) {
     const double d = h5::read_attr_double(header, "SimulationDimension", path);
     if (d != 2 && d != 3) throw UserError("'" + path + "': Header/SimulationDimension must be 2 or 3");
     return static_cast<int>(d);
+  };
+  return h5::read_isolated(path, read);
+}
+
+std::string snapshot_run_id(const std::string& path) {
+  auto read = [&] {
+    h5::Handle file = h5::open_file_readonly(path);
+    h5::Handle header = h5::open_group(file, "Header", path);
+    return h5::has_attr(header, "RunID") ? h5::read_attr_string(header, "RunID", path) : std::string();
   };
   return h5::read_isolated(path, read);
 }

@@ -62,6 +62,8 @@ double snapshot_box_size(const Particles<D>& p);
 // The run's dimension a snapshot records (Header SimulationDimension; 2 where absent), so that it
 // is read into particles of it.
 int snapshot_dimension(const std::string& path);
+// The run identity a snapshot records (Header RunID; "" where absent).
+std::string snapshot_run_id(const std::string& path);
 
 template <int D>
 Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units, SnapshotMeta& meta,
