@@ -40,7 +40,7 @@ namespace {
 // Format 10 (2026-12-05): the scatter density (scatter_density, a kRateState field absent where
 // unused: kScatterDensityOnly), which earlier files never hold: their runs compared summed densities.
 // Format 11 (2026-12-07): the run's identity (attribute RunID), which its resumes keep whatever
-// settings they override (earlier files' runs take it from their stored configuration), and a run
+// settings they override (earlier files' runs take it from their first snapshot), and a run
 // from a file's initial mass (InitialMass), both in the checksum where present.
 constexpr long long kFormatVersion = 11;
 constexpr long long kOldestFormatRead = 2;
