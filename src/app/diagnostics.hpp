@@ -1,7 +1,7 @@
 #pragma once
 // Global diagnostics of the particle set (docs/physics.md sec. 4 "Diagnostics"): mass, energies and
-// the angular momentum L_z, summed with the deterministic reduction of the parallel layer; and the
-// search for a non-finite value that stops a run.
+// the angular momentum L_z over all ranks, summed with the same bits for any thread and rank count
+// (parallel/order_free_sum.hpp); and the search for a non-finite value that stops a run.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/particles.hpp"
+#include "parallel/communicator.hpp"
 #include "parallel/loops.hpp"
 #include "physics/accretion.hpp"  // angular_momentum_z
 
@@ -19,14 +20,10 @@ struct GlobalSums {
   double kinetic_energy = 0;
   double internal_energy = 0;
   double angular_momentum = 0;  // L_z = sum m (x v_y - y v_x)
-  GlobalSums operator+(const GlobalSums& o) const {
-    return {mass + o.mass, kinetic_energy + o.kinetic_energy, internal_energy + o.internal_energy,
-            angular_momentum + o.angular_momentum};
-  }
 };
 
 template <int D>
-GlobalSums global_sums(const Particles<D>& p, bool energy);
+GlobalSums global_sums(const Communicator& comm, const Particles<D>& p, bool energy);  // collective
 
 // A non-finite value, naming particle, field and step ("" when all are finite): of the fields, the one
 // most likely the cause (position, then velocity, acceleration, internal energy: a bad position

@@ -203,7 +203,8 @@ void Runner<D>::check_finite_or_dump() {
   write_snapshot(domain_.comm(), dump, p_, meta_);
   throw NumericalError((bad.empty() ? "non-finite values on another rank at step " + std::to_string(s_.step) : bad) +
                        "; state written to " + dump +
-                       ", last good checkpoint kept; reduce the timestep factors or check the set-up");
+                       (fs::exists(fs::path(dir_) / kCheckpointName) ? ", last good checkpoint kept" : ", no checkpoint written yet") +
+                       "; reduce the timestep factors or check the set-up");
 }
 
 template <int D>
@@ -221,13 +222,8 @@ void Runner<D>::write_checkpoint_now() {
 template <int D>
 void Runner<D>::diagnostics_row(double dt) {
   ScopedPhase timer(timers_, "diagnostics");
-  GlobalSums g = global_sums(p_, cfg_.evolve_energy);
+  const GlobalSums g = global_sums(domain_.comm(), p_, cfg_.evolve_energy);
   const std::size_t n = global_count();
-  if (distributed()) {
-    const Communicator& c = domain_.comm();
-    g = GlobalSums{c.sum_in_rank_order(g.mass), c.sum_in_rank_order(g.kinetic_energy),
-                   c.sum_in_rank_order(g.internal_energy), c.sum_in_rank_order(g.angular_momentum)};
-  }
   if (!root()) return;
   csv_ << s_.step << ',' << s_.time << ',' << setup_.tau_of_time(s_.time) << ',' << dt << ',' << n << ','
        << g.mass << ',' << s_.accreted_mass << ',' << g.kinetic_energy << ',' << g.internal_energy << ','

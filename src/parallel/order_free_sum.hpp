@@ -1,35 +1,69 @@
 #pragma once
-// The sum of non-negative values spread over ranks with the same bits for any rank count and any
-// order of the values: each is cut into two integer parts of 31 bits on a grid set by the largest
-// value, the parts are summed exactly as integers, and the two totals are rounded to a double once.
-// Values below 2^-62 of the largest are lost; the rest enter exactly.
+// Sums of values spread over threads and ranks with the same bits for any thread count, rank count
+// and order of the values: each value is cut into two signed integer parts of 31 bits on a grid set
+// by the largest magnitude of its kind, the parts are summed exactly as integers (in any order), and
+// the two totals are rounded to a double once. Values below 2^-62 of the largest are lost; the rest
+// enter exactly.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "parallel/communicator.hpp"
+#include "parallel/loops.hpp"
 
 namespace sphdisk {
 
+// K sums over items 0 .. n-1 of this rank (all ranks together): terms(i) gives item i's K values.
+// Collective.
+template <std::size_t K, class Terms>
+std::array<double, K> order_free_sums(const Communicator& comm, std::size_t n, Terms terms) {
+  using Values = std::array<double, K>;
+  const auto larger = [](Values a, const Values& b) {
+    for (std::size_t k = 0; k < K; ++k) a[k] = std::max(a[k], b[k]);
+    return a;
+  };
+  Values largest = par::reduce(n, Values{}, [&](std::size_t i) {
+    Values v = terms(i);
+    for (double& x : v) x = std::fabs(x);
+    return v;
+  }, larger);
+  comm.max(std::span<double>(largest));
+  // Scaled by 2^(30 - e), each value's magnitude lies below 2^31; 2^31 values' parts sum below 2^62.
+  std::array<int, K> e{};
+  for (std::size_t k = 0; k < K; ++k) e[k] = largest[k] > 0 ? std::ilogb(largest[k]) : 0;
+  using Parts = std::array<std::int64_t, 2 * K>;
+  Parts parts = par::reduce(n, Parts{}, [&](std::size_t i) {
+    const Values v = terms(i);
+    Parts q{};
+    for (std::size_t k = 0; k < K; ++k) {
+      const double scaled = std::ldexp(v[k], 30 - e[k]);  // exact: a power of two
+      const double whole = std::trunc(scaled);
+      q[2 * k] = static_cast<std::int64_t>(whole);
+      q[2 * k + 1] = static_cast<std::int64_t>(std::trunc(std::ldexp(scaled - whole, 31)));  // both exact
+    }
+    return q;
+  }, [](Parts a, const Parts& b) {
+    for (std::size_t j = 0; j < 2 * K; ++j) a[j] += b[j];
+    return a;
+  });
+  // Over ranks as unsigned integers: two's complement sums wrap to the same bits as signed ones.
+  std::array<std::uint64_t, 2 * K> wide{};
+  for (std::size_t j = 0; j < 2 * K; ++j) wide[j] = static_cast<std::uint64_t>(parts[j]);
+  comm.sum(std::span<std::uint64_t>(wide));
+  Values total{};
+  for (std::size_t k = 0; k < K; ++k)
+    total[k] = std::ldexp(static_cast<double>(static_cast<std::int64_t>(wide[2 * k])), e[k] - 30) +
+               std::ldexp(static_cast<double>(static_cast<std::int64_t>(wide[2 * k + 1])), e[k] - 61);
+  return total;
+}
+
+// One such sum of a vector's values.
 template <class T>
 double order_free_sum(const Communicator& comm, const std::vector<T>& values) {
-  double largest = 0;
-  for (T v : values) largest = std::max(largest, static_cast<double>(v));
-  largest = comm.max(largest);
-  if (!(largest > 0)) return 0;
-  // Scaled by 2^(30 - e), each value lies below 2^31; 2^31 values' parts sum below 2^62.
-  const int e = std::ilogb(largest);
-  std::uint64_t parts[2] = {0, 0};
-  for (T v : values) {
-    const double scaled = std::ldexp(static_cast<double>(v), 30 - e);  // exact: a power of two
-    const double whole = std::floor(scaled);
-    parts[0] += static_cast<std::uint64_t>(whole);
-    parts[1] += static_cast<std::uint64_t>(std::floor(std::ldexp(scaled - whole, 31)));  // both exact
-  }
-  comm.sum(std::span<std::uint64_t>(parts));
-  return std::ldexp(static_cast<double>(parts[0]), e - 30) + std::ldexp(static_cast<double>(parts[1]), e - 61);
+  return order_free_sums<1>(comm, values.size(), [&](std::size_t i) { return std::array<double, 1>{static_cast<double>(values[i])}; })[0];
 }
 
 }  // namespace sphdisk

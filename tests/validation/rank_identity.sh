@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Same input, same bits over MPI: a short ring run on 2 and 3 ranks, and on 2 ranks x 2 threads,
-# must write byte-identical snapshot files to one process (particles in ID order, no timestamps),
+# must write byte-identical snapshot files and diagnostics (but the wall time) to one process
+# (particles in ID order, no timestamps; global sums free of the rank count's order),
 # with adaptive smoothing lengths (the default), with one constant h, with gravity substepped (respa),
 # with block timesteps, and with pairs searched anew by every pair loop (sph.pair_lists = "rescan")
 # with the leapfrog and with block timesteps, with block timesteps' super-steps, and with the scatter
@@ -45,6 +46,12 @@ for variant in adaptive constant respa block rescan rescan_block super_steps sca
         echo "DIFFERENT ($variant): $f, one process vs $1 ranks x $2 threads"; fail=1
       fi
     done
+    # diagnostics.csv, every column but the wall time: the global sums too.
+    if cmp -s <(cut -d, -f1-11 "$work/$variant/serial/diagnostics.csv") <(cut -d, -f1-11 "$work/$variant/r$1t$2/diagnostics.csv"); then
+      echo "identical ($variant): diagnostics.csv but its wall time, one process vs $1 ranks x $2 threads"
+    else
+      echo "DIFFERENT ($variant): diagnostics.csv, one process vs $1 ranks x $2 threads"; fail=1
+    fi
   done
   # The run must have accreted particles (the accretion tally crosses ranks).
   accreted=$(tail -1 "$work/$variant/r3t1/diagnostics.csv" | cut -d, -f7)
