@@ -105,13 +105,14 @@ int cmd_report(const std::string& dir) {
 // for it forever. Such a rank first gives rank 0 a moment to report an input error and stop them
 // all: stopping at once, it could kill rank 0 before its line was out (seen under load with a
 // repeated ID across ranks: exit 2, no message); if it is still running after that, the error was
-// its own, and it reports it.
+// its own, and it reports it. A rank told of another's error (PeerError) waits the same moment, so
+// that rank 0's line is out before anything stops it.
 [[noreturn]] static void exit_after_error(int code, const char* kind, const std::string& what, bool quiet = false) {
   const sphdisk::Communicator world = sphdisk::Communicator::world();
   bool own = world.is_root() || code != 2;
-  if (!own && !quiet && world.size() > 1) {
+  if (!own && world.size() > 1) {
     std::this_thread::sleep_for(std::chrono::seconds(3));
-    own = true;
+    own = !quiet;  // a peer of rank 0's error (PeerError) has nothing of its own to say
   }
   if (!quiet && own) {
     sphdisk::run_log::write("sphdisk: " + std::string(kind) + ": " + sphdisk::one_line(what) + "\n");

@@ -1,5 +1,6 @@
 #include "app/sweep.hpp"
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -20,6 +21,12 @@ namespace sphdisk {
 namespace fs = std::filesystem;
 
 namespace {
+
+// SIGTERM / SIGINT during a study (a batch job's time limit) while no run of this process is
+// active: counted, so that no further run starts and sweep.csv is kept; a run that is active
+// takes the signal itself (app/runner.cpp) and stops at its checkpoint.
+volatile std::sig_atomic_t g_sweep_stop_signals = 0;
+extern "C" void on_sweep_stop_signal(int) { g_sweep_stop_signals = g_sweep_stop_signals + 1; }
 
 struct SweepRun {
   std::string name;
@@ -69,8 +76,10 @@ Study read_study(const std::string& path) {
     if (!r) throw UserError(path + ": every [[run]] must be a table");
     SweepRun run;
     run.name = (*r)["name"].value_or(std::string());
-    if (run.name.empty() || run.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") != std::string::npos)
-      throw UserError(path + ": run name '" + run.name + "' must be non-empty and use only letters, digits, _ . -");
+    // (A name of dots alone would name the output directory or its parent, not a run's own.)
+    if (run.name.empty() || run.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") != std::string::npos ||
+        run.name.find_first_not_of('.') == std::string::npos)
+      throw UserError(path + ": run name '" + run.name + "' must use only letters, digits, _ . - and not be dots alone");
     if (!names.insert(run.name).second) throw UserError(path + ": run name '" + run.name + "' appears twice");
     for (const auto& [key, value] : *r)
       if (key != "name" && key != "set")
@@ -116,6 +125,9 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std:
         throw UserError("sweep output '" + (fs::path(study.output) / r.name).string() +
                         "' already holds results; use another output, or --overwrite to replace them");
   });
+  g_sweep_stop_signals = 0;
+  auto old_term = std::signal(SIGTERM, on_sweep_stop_signal);
+  auto old_int = std::signal(SIGINT, on_sweep_stop_signal);
   run_task_farm(
       comm, study.runs.size(), study.attempts,
       [&](std::size_t k) {
@@ -146,7 +158,12 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std:
             << r.attempt << ',' << r.outcome.seconds << ',' << csv_field(one_line(r.outcome.message)) << '\n';
         std::fprintf(stderr, "sweep: %s on rank %d (attempt %d): %s%s\n", study.runs[r.task].name.c_str(), r.rank,
                      r.attempt, ok ? "ok, " : "FAILED: ", one_line(r.outcome.message).c_str());
-      });
+        write_text_atomically(summary.csv_path, csv.str());  // after each attempt: a stopped study keeps its rows
+      },
+      [] { return g_sweep_stop_signals > 0; });
+  std::signal(SIGTERM, old_term);
+  std::signal(SIGINT, old_int);
+  summary.interrupted = summary.interrupted || g_sweep_stop_signals > 0;
   if (comm.is_root()) write_text_atomically(summary.csv_path, csv.str());
   return summary;
 }

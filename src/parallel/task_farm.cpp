@@ -67,11 +67,13 @@ struct Pending {
 
 void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
                    const std::function<TaskOutcome(std::size_t)>& execute,
-                   const std::function<void(const TaskReport&)>& on_report) {
+                   const std::function<void(const TaskReport&)>& on_report,
+                   const std::function<bool()>& stop_requested) {
   attempts = std::max(attempts, 1);
   if (comm.size() == 1) {
     for (std::size_t t = 0; t < n_tasks; ++t)
       for (int a = 1; a <= attempts; ++a) {
+        if (stop_requested()) return;
         const TaskOutcome o = run_one(execute, t);
         on_report(TaskReport{t, 0, a, o, o.ok || o.stop_all || a == attempts});
         if (o.stop_all) return;
@@ -115,6 +117,7 @@ void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
     // The first queued task that has not failed on this rank, else the first one.
     auto next = std::find_if(queue.begin(), queue.end(), [&](const Pending& p) { return !p.failed_on.count(from); });
     if (next == queue.end()) next = queue.begin();
+    stopping = stopping || stop_requested();
     if (next == queue.end() || stopping) {
       comm.send(from, encode_task(kStop));
       --workers;

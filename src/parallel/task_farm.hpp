@@ -28,9 +28,11 @@ struct TaskReport {
 
 // Collective: every rank calls it with the same n_tasks and attempts. execute(task) runs on the
 // worker ranks (on rank 0 too when it is the only rank) and returns the outcome (an exception is a
-// failed outcome). on_report runs on rank 0 for every attempt, in the order results arrive.
+// failed outcome). on_report runs on rank 0 for every attempt, in the order results arrive. Once
+// stop_requested() (asked on rank 0 before each hand-out) is true, no further task starts.
 void run_task_farm(const Communicator& comm, std::size_t n_tasks, int attempts,
                    const std::function<TaskOutcome(std::size_t task)>& execute,
-                   const std::function<void(const TaskReport&)>& on_report);
+                   const std::function<void(const TaskReport&)>& on_report,
+                   const std::function<bool()>& stop_requested = [] { return false; });
 
 }  // namespace sphdisk

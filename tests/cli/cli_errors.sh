@@ -50,6 +50,8 @@ expect_error super-steps-name "integrator.viscous_update must be one of" -- run 
 expect_error gradient-correction-name "sph.gradient_correction must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.gradient_correction="shepard"' -o "$work/o1"
 expect_error pair-lists-name "sph.pair_lists must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.pair_lists="none"' -o "$work/o1"
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
+printf 'base = "%s"\noutput = "%s/sw"\n[[run]]\nname = ".."\nset = []\n' "$(cd "$(dirname "$0")/../validation" && pwd)/small_ring.toml" "$work" > "$work/dots.toml"
+expect_error sweep-dots-name "run name '..' must use only letters, digits, _ . - and not be dots alone" -- sweep "$work/dots.toml"
 expect_error negative-threads "threads: Value -1 not in range" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 
