@@ -3,6 +3,7 @@ figures, then the details (run, parameters, accuracy or disc table, diagnostics,
 """
 import math
 import os
+import re
 
 import numpy as np
 
@@ -40,7 +41,12 @@ def table(header, rows):
 
 
 def workers_text(run):
-    """Threads and ranks as far as the run directory records them."""
+    """Threads and ranks as far as the run directory records them: run.log's line of each process that
+    ran it (the run and its resumes, on any counts), else ranks.json and run.threads."""
+    segments = logged_workers(os.path.join(run.run_dir, "run.log"))
+    if segments:
+        text = ", then ".join(f"{r} MPI rank{'s' if r > 1 else ''} x {t} thread{'s' if t > 1 else ''}" for r, t in segments)
+        return text + (" (run.log: the run and its resumes)" if len(segments) > 1 else " (run.log)")
     parts = []
     threads = run.params.get("run.threads")
     recorded = (run.ranks or [{}])[0].get("threads") if run.ranks else None
@@ -53,6 +59,16 @@ def workers_text(run):
     if run.ranks:
         parts.append(f"{len(run.ranks)} MPI rank{'s' if len(run.ranks) > 1 else ''} (ranks.json)")
     return ", ".join(parts)
+
+
+def logged_workers(path):
+    """(ranks, threads per rank) of each process run.log records, in order; [] without run.log."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            found = [re.match(r"ranks: (\d+), threads: (\d+) per rank", line) for line in f]
+    except OSError:
+        return []
+    return [(int(m.group(1)), int(m.group(2))) for m in found if m]
 
 
 def span_text(run, all_stats):

@@ -173,6 +173,14 @@ def test_ring_rule():
              ({"Problem": "ring"}, {"problem.initial_conditions": "ic.hdf5"}, True)]
     for header, params, want in cases:
         check(ring_model.is_ring_run(header, params) == want, f"is_ring_run({header}, {params}) = {want}")
+    # The ranks and threads of a run and its resumes, from run.log's line per process.
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "run.log"), "w") as f:
+            f.write("==== sphdisk run ====\nranks: 3, threads: 1 per rank, vector loops: avx512\n"
+                    "==== sphdisk resume ====\nranks: 1, threads: 2 per rank, vector loops: avx512\n")
+        seen = report_text.workers_text(type("Run", (), {"run_dir": d, "params": {}, "ranks": [{}]})())
+        check(seen == "3 MPI ranks x 1 thread, then 1 MPI rank x 2 threads (run.log: the run and its resumes)",
+              f"workers of a run resumed on other counts: {seen!r}")
     # The wall time of a run and its resumes: diagnostics.csv's column restarts at each resume.
     check(report_text.run_wall_time([0.5, 1.0, 2.0]) == (2.0, 1), "wall time of one process: its last value")
     check(abs(report_text.run_wall_time([0.5, 2.0, 0.3, 1.5, 0.2, 0.7])[0] - 4.2) < 1e-12 and report_text.run_wall_time([0.5, 2.0, 0.3, 1.5, 0.2, 0.7])[1] == 3, "wall time over two resumes: the parts' sum")
