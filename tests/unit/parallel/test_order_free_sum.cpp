@@ -51,6 +51,12 @@ TEST(OrderFreeSum, IsTheSumToOneRounding) {
   const std::vector<float> f = {1.5f, 0.25f, 3.0f};
   EXPECT_EQ(order_free_sum(Communicator::self(), f), 4.75);
   EXPECT_EQ(order_free_sum(Communicator::self(), std::vector<double>{}), 0.0);
+  EXPECT_EQ(order_free_sum(Communicator::self(), std::vector<double>{3e-310, 1e-310}), 4e-310);  // subnormal
+  const auto with_nan = order_free_sums<2>(Communicator::self(), 3, [](std::size_t i) {
+    return std::array<double, 2>{1.0, i == 1 ? std::nan("") : 2.0};
+  });
+  EXPECT_EQ(with_nan[0], 3.0);
+  EXPECT_TRUE(std::isnan(with_nan[1]));
 }
 
 TEST(OrderFreeSum, SignedSumsOfSeveralKindsAnyThreadCountAndOrder) {
