@@ -180,7 +180,8 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   if (cfg.dimension != D)
     throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
   refuse_changed_problem(stored, cfg);
-  if (state.next_output >= static_cast<long long>(output_times(cfg, make_setup(cfg)).size()))
+  const Setup setup = make_setup(cfg);
+  if (state.next_output >= static_cast<long long>(output_times(cfg, setup).size()))
     throw UserError("the run in '" + dir + "' is complete (every output written); to go on, resume it with later output "
                     "times, e.g. --set 'output.tau=[0.09, 0.2]' (or output.times, output.orbits, as the run gives them)");
   // A checkpoint from before format 11 names no identity: its run's is the one its first snapshot
@@ -197,7 +198,7 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   run_on_root(comm, [&] {
     char what[96];
     std::snprintf(what, sizeof what, "resume from step %lld (tau %.6g)", state.step,
-                  make_setup(cfg).tau_of_time(state.time));
+                  setup.tau_of_time(state.time));
     run_log::open(dir);
     run_log::write(run_log::header(what, opts.command_line, comm.size(), par::max_threads()));
   });
