@@ -263,13 +263,19 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   // `need` radius of the particles there.
   const std::size_t words = (ranks + 63) / 64;
   std::vector<std::uint64_t> occupied(cells * words, 0);
+  // Only the particles that read ghosts (need >= 0) mark their cells for the other ranks: an
+  // inactive particle of a block step pairs with none, so ghosts around it alone would be spare.
   std::vector<double> need_max(cells, 0.0), reach_max(cells, 0.0);
+  std::vector<char> mine(cells, 0);  // the top cells holding particles of this rank (it sends from them)
   std::vector<std::size_t> cell_of(owned_);
   for (std::size_t i = 0; i < owned_; ++i) {
     const std::size_t c = cell_of[i] = grid.top_cell_of(p.pos[i]);
-    occupied[c * words + me / 64] |= std::uint64_t{1} << (me % 64);
-    need_max[c] = std::max(need_max[c], need(i));
+    mine[c] = 1;
     reach_max[c] = std::max(reach_max[c], reach(i));
+    const double r = need(i);
+    if (r < 0) continue;
+    occupied[c * words + me / 64] |= std::uint64_t{1} << (me % 64);
+    need_max[c] = std::max(need_max[c], r);
   }
   comm.bit_or(occupied);
   comm.max(need_max);
@@ -298,7 +304,7 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   std::vector<std::vector<std::uint32_t>> targets(cells);
   const double margin = 1.0 + 1e-12;
   for (std::size_t s = 0; s < cells; ++s) {
-    if (!holds(s, me) || reach_max[s] <= 0) continue;
+    if (!mine[s] || reach_max[s] <= 0) continue;
     const std::array<int, D> ts = coord_of_index<D>(grid, s);
     const double R = reach_max[s] * margin;
     for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
@@ -312,7 +318,7 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     const double R = need_max[c] * margin;
     for_each_top_cell_near<D>(grid, tc, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& ts) {
       const std::size_t s = grid.top_index(ts);
-      if (holds(s, me) && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
+      if (mine[s] && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
     });
   }
   for (auto& t : targets) {

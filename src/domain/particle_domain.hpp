@@ -30,7 +30,8 @@ class ParticleDomain {
   virtual ~ParticleDomain() = default;
   // Appends ghosts: every other process's particle j within need(i) of one of p's particles i, or
   // within its own reach(j) of one (need: the neighbour-search radius; reach: the particle's own
-  // support 2 h_j, for pairs that only j's kernel covers). Radii are of owned particles. Returns
+  // support 2 h_j, for pairs that only j's kernel covers). Radii are of owned particles; a particle
+  // with need(i) < 0 reads no ghosts (not written in this evaluation) and draws none. Returns
   // the lattice of cells (shared by all processes: as a single process would build it over all
   // particles with cells >= min_cell_size).
   virtual Lattice<D> add_ghosts(Particles<D>& p, double min_cell_size, const RadiusOf& need, const RadiusOf& reach) = 0;

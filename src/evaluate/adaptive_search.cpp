@@ -71,8 +71,9 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
   if (domain_) {
     need_.resize(owned);
     reach_.resize(owned);
+    // (Inactive particles pair with no ghost: they draw none, add_ghosts.)
     for (std::size_t i = 0; i < owned; ++i) {
-      need_[i] = 2.0 * kSkin * p.h[i] * kHaloMargin;
+      need_[i] = i < active ? 2.0 * kSkin * p.h[i] * kHaloMargin : -1.0;
       reach_[i] = 2.0 * p.h[i] * kHaloMargin;
     }
     h_start_ = p.h;

@@ -210,7 +210,9 @@ std::size_t RateEvaluator<D>::constant_h_pairs(K, Particles<D>& p, std::size_t a
     {
       ScopedPhase t(timers_, "communication");
       const auto radius = [support](std::size_t) { return support; };
-      lattice = domain_->add_ghosts(p, 0.5 * support, radius, radius);
+      // (Inactive particles pair with no ghost: they draw none, add_ghosts.)
+      const auto need = [support, active](std::size_t i) { return i < active ? support : -1.0; };
+      lattice = domain_->add_ghosts(p, 0.5 * support, need, radius);
     }
     std::fill(p.h.begin(), p.h.end(), h_);  // what the timestep criteria and the snapshots read
     ScopedPhase t(timers_, "cell_build");

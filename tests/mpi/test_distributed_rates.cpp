@@ -182,6 +182,44 @@ TEST(DistributedDomain, RebalancesOnlyPastTheThreshold) {
   for (const auto& x : p.pos) ASSERT_EQ(now.owner_of(x), comm.rank());
 }
 
+// Only particles that read ghosts (need >= 0: the active ones of a block step) draw them: with
+// none reading, no rank gets a ghost; with a few reading, every other rank's particle within the
+// radius of one of them arrives (checked against all particles), and fewer than when all read.
+TEST(DistributedDomain, OnlyParticlesThatReadGhostsDrawThem) {
+  const Communicator comm = Communicator::world();
+  if (comm.size() == 1) GTEST_SKIP() << "one rank has no ghosts";
+  const RingSetup s = ring(6000);
+  const double h = ring_smoothing_length(s, 60), radius = 2.2 * h;
+  Particles<2> p = make_ring(s, static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size()));
+  DistributedDomain<2> domain(comm);
+  domain.rebalance(p, h);
+  const std::size_t owned = p.size();
+  // "Active": the particles within 0.3 r0 of the point (r0, 0), wherever they are owned.
+  const auto active = [](const Vec<2>& x) { return std::hypot(x[0] - 1.0, x[1]) < 0.3; };
+  const auto ghosts_with = [&](auto need) {
+    domain.add_ghosts(p, h, need, [&](std::size_t) { return radius; });
+    const std::vector<std::uint64_t> ids(p.id.begin() + static_cast<std::ptrdiff_t>(owned), p.id.end());
+    domain.remove_ghosts(p);
+    return ids;
+  };
+  EXPECT_EQ(comm.sum(ghosts_with([](std::size_t) { return -1.0; }).size()), 0u);
+  const std::size_t all_read = comm.sum(ghosts_with([&](std::size_t) { return radius; }).size());
+  const std::vector<std::uint64_t> got = ghosts_with([&](std::size_t i) { return active(p.pos[i]) ? radius : -1.0; });
+  EXPECT_LT(comm.sum(got.size()), all_read);
+  const Particles<2> all = make_ring(s);
+  std::vector<char> mine(all.size() + 1, 0);
+  for (const std::uint64_t id : p.id) mine[id] = 1;
+  std::vector<char> arrived(all.size() + 1, 0);
+  for (const std::uint64_t id : got) arrived[id] = 1;
+  std::size_t missing = 0;
+  for (std::size_t i = 0; i < owned; ++i) {
+    if (!active(p.pos[i])) continue;
+    for (std::size_t j = 0; j < all.size(); ++j)
+      if (!mine[all.id[j]] && norm(all.pos[j] - p.pos[i]) < radius && !arrived[all.id[j]]) ++missing;
+  }
+  EXPECT_EQ(missing, 0u) << "rank " << comm.rank();
+}
+
 // A first distribution that moves more particles than one migration round carries (2^15 per
 // destination) arrives whole: every particle once, on its owner, with its fields.
 TEST(DistributedDomain, LargeMigrationsArriveWhole) {
