@@ -259,12 +259,11 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   owned_ = p.size();
   send_.assign(ranks, {});
   const std::size_t cells = grid.top_cells();
-  // Shared maps: which ranks hold particles in each top cell (one bit per rank), and the largest
-  // `need` radius of the particles there.
+  // Shared maps: which ranks hold particles that read ghosts (need >= 0) in each top cell (one bit
+  // per rank), and the largest `need` radius of those. (An inactive particle of a block step pairs
+  // with no ghost, so ghosts around it alone would be spare.)
   const std::size_t words = (ranks + 63) / 64;
   std::vector<std::uint64_t> occupied(cells * words, 0);
-  // Only the particles that read ghosts (need >= 0) mark their cells for the other ranks: an
-  // inactive particle of a block step pairs with none, so ghosts around it alone would be spare.
   std::vector<double> need_max(cells, 0.0), reach_max(cells, 0.0);
   std::vector<char> mine(cells, 0);  // the top cells holding particles of this rank (it sends from them)
   std::vector<std::size_t> cell_of(owned_);

@@ -3,6 +3,7 @@
 // where a solve reached beyond it, then the half lists of the interacting pairs (stored lists) or
 // the tile order (pairs searched anew).
 #include <cmath>
+#include <limits>
 
 #include "evaluate/cells_and_tiles.hpp"
 #include "evaluate/rate_evaluator.hpp"
@@ -78,6 +79,19 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
     }
     h_start_ = p.h;
   }
+  // The particles' common mass (0 if they differ) selects the density sum's form: over ranks of
+  // all their particles, so that every rank takes the same form (one whose own and ghost particles
+  // are alike could otherwise take the other, with other round-off).
+  double uniform_mass_all = 0;
+  if (domain_) {
+    const double lo = domain_->min(par::reduce(owned, std::numeric_limits<double>::infinity(), [&](std::size_t i) { return p.mass[i]; },
+                                               [](double a, double b) { return std::min(a, b); }));
+    const double hi = domain_->max(par::reduce(owned, -std::numeric_limits<double>::infinity(), [&](std::size_t i) { return p.mass[i]; },
+                                               [](double a, double b) { return std::max(a, b); }));
+    uniform_mass_all = lo == hi && lo > 0 ? lo : 0.0;
+  } else if (!whole_.set) {
+    uniform_mass_all = uniform_mass_of(p);
+  }
   // (A partial evaluation on the involved particles takes the whole set's choices: the same ones.)
   const bool grid_kept = stage_ && kept_.grid_of_all;
   if (!stage_) kept_ = {true, cell_size, widest_support_, !domain_ && !whole_.set};
@@ -108,7 +122,7 @@ bool RateEvaluator<D>::adaptive_lists_with(K, Particles<D>& p, std::size_t activ
     search_radius_.resize(active);
     for (std::size_t i = 0; i < active; ++i) search_radius_[i] = 2.0 * kSkin * p.h[i];
     halo_short_.assign(domain_ ? owned : 0, 0.0);
-    const double uniform_mass = whole_.set ? whole_.uniform_mass : uniform_mass_of(p);  // ghosts included
+    const double uniform_mass = whole_.set ? whole_.uniform_mass : uniform_mass_all;
     solve_sums_.assign(active, 0);
     const SettleRadius settle = [&](std::size_t i, std::span<const std::uint32_t> cand, std::span<const double> dist2,
                                     double searched) {

@@ -41,14 +41,20 @@ void rotate(Particles<2>& p, double angle) {
 // step), so many of them lie in other ranks' top cells when the ghosts are chosen.
 // Adaptive smoothing starts from h_start_factor x the ring's typical h: far from the solution, so
 // the halo chosen from the start values is too small and must be widened.
+// With clump_mass != 1, the particles within 0.15 r0 of (0, r0) have that times their mass.
 void expect_distributed_equals_serial(const PhysicsParams& phys, std::size_t n, std::size_t top_cells_per_rank,
                                       double drift = 0.0, Smoothing smoothing = Smoothing::Constant,
-                                      double h_start_factor = 1.0) {
+                                      double h_start_factor = 1.0, double clump_mass = 1.0) {
   const Communicator comm = Communicator::world();
   const RingSetup s = ring(n);
   const double h = ring_smoothing_length(s, 60);
+  const auto weigh = [clump_mass](Particles<2>& q) {
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (std::hypot(q.pos[i][0], q.pos[i][1] - 1.0) < 0.15) q.mass[i] *= clump_mass;
+  };
 
   Particles<2> all = make_ring(s);
+  weigh(all);
   rotate(all, drift);
   for (auto& hi : all.h) hi = h * h_start_factor;
   PhaseTimers timers;
@@ -59,6 +65,7 @@ void expect_distributed_equals_serial(const PhysicsParams& phys, std::size_t n, 
 
   // Each rank starts from a scattered share (as after reading a file), not from its domain.
   Particles<2> p = make_ring(s);
+  weigh(p);
   for (auto& hi : p.h) hi = h * h_start_factor;
   std::vector<std::uint32_t> mine;
   for (std::size_t i = 0; i < p.size(); ++i)
@@ -135,6 +142,14 @@ TEST(DistributedRates, AdaptiveSmoothingSameBitsAsOneProcess) {
   phys.nu = 4.778e-5;
   phys.evolve_energy = true;
   expect_distributed_equals_serial(phys, 6000, 256, 0.0, Smoothing::Adaptive, 1.0);
+}
+
+// Masses that differ in one place only: every rank must take the summed density's form for
+// unequal masses (smoothing_length.hpp), also a rank whose own and ghost particles are all alike.
+TEST(DistributedRates, AdaptiveSmoothingWithUnequalMassesSameBitsAsOneProcess) {
+  PhysicsParams phys;
+  phys.nu = 4.778e-5;
+  expect_distributed_equals_serial(phys, 6000, 256, 0.0, Smoothing::Adaptive, 1.0, 1.5);
 }
 
 TEST(DistributedRates, AdaptiveSmoothingWidensTheHaloWhenHGrows) {
