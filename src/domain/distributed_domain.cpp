@@ -118,16 +118,19 @@ template <int D>
 std::size_t send_in_rounds(const Communicator& comm, const Particles<D>& p, const std::vector<std::vector<std::uint32_t>>& to,
                            const FieldNames& fields, Particles<D>& out) {
   const auto ranks = static_cast<std::size_t>(comm.size());
-  const auto me = static_cast<std::size_t>(comm.rank());
-  std::vector<std::uint64_t> sending(ranks * ranks, 0);  // [from * ranks + to]
-  for (std::size_t r = 0; r < ranks; ++r) sending[me * ranks + r] = to[r].size();
-  comm.sum(sending);
-  std::uint64_t arriving = 0, busiest = 0;
-  for (std::size_t from = 0; from < ranks; ++from) arriving += sending[from * ranks + me];
-  for (const std::uint64_t c : sending) busiest = std::max(busiest, c);
+  // How many come from each rank (an all-to-all of counts), and the largest count of any rank to
+  // any rank, which sets the rounds all take.
+  std::vector<std::uint64_t> sending(ranks), busiest(1, 0);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    sending[r] = to[r].size();
+    busiest[0] = std::max(busiest[0], sending[r]);
+  }
+  std::uint64_t arriving = 0;
+  for (const std::uint64_t c : comm.all_to_all(sending)) arriving += c;
+  comm.max(std::span<std::uint64_t>(busiest));
   std::size_t next = out.size();
   out.resize(out.size() + arriving);
-  for (std::size_t start = 0; start < busiest; start += kRound) {
+  for (std::size_t start = 0; start < busiest[0]; start += kRound) {
     std::vector<std::vector<std::byte>> send(ranks);
     for (std::size_t r = 0; r < ranks; ++r) {
       if (start >= to[r].size()) continue;

@@ -146,6 +146,18 @@ std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std
   return recv;
 }
 
+std::vector<std::uint64_t> Communicator::all_to_all(const std::vector<std::uint64_t>& send) const {
+  const auto p = static_cast<std::size_t>(size_);
+  if (send.size() != p) throw std::logic_error("Communicator::all_to_all: one value per rank expected");
+  if (size_ == 1) return send;
+  std::vector<std::uint64_t> recv(p);
+  ++g_traffic.exchanges;
+  g_traffic.messages += p - 1;
+  g_traffic.bytes += (p - 1) * sizeof(std::uint64_t);
+  check(MPI_Alltoall(send.data(), 1, MPI_UINT64_T, recv.data(), 1, MPI_UINT64_T, comm_of(handle_)), "MPI_Alltoall");
+  return recv;
+}
+
 void Communicator::barrier() const {
   if (size_ > 1) ++g_traffic.reductions;
   if (size_ > 1) check(MPI_Barrier(comm_of(handle_)), "MPI_Barrier");
@@ -225,6 +237,7 @@ double Communicator::sum_in_rank_order(double x) const { return x; }
 std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
   return send;
 }
+std::vector<std::uint64_t> Communicator::all_to_all(const std::vector<std::uint64_t>& send) const { return send; }
 void Communicator::barrier() const {}
 void Communicator::send(int, const std::vector<std::byte>&) const {
   throw std::logic_error("Communicator::send: there is no other rank");

@@ -62,6 +62,9 @@ class Communicator {
 
   // Personalised all-to-all: send[r] goes to rank r; returns what each rank sent here, by rank.
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& send) const;
+  // The same for one value per rank (P values in and out per rank, where a sum of a P x P table
+  // would carry P^2).
+  std::vector<std::uint64_t> all_to_all(const std::vector<std::uint64_t>& send) const;
 
   void barrier() const;
 

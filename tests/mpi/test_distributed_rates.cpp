@@ -235,6 +235,17 @@ TEST(DistributedDomain, OnlyParticlesThatReadGhostsDrawThem) {
   EXPECT_EQ(missing, 0u) << "rank " << comm.rank();
 }
 
+// Each rank's value for rank r arrives on r, by sender: rank s sends 1000 s + r to rank r.
+TEST(Communicator, AllToAllDeliversEachRanksValueBySender) {
+  const Communicator comm = Communicator::world();
+  const auto ranks = static_cast<std::uint64_t>(comm.size()), me = static_cast<std::uint64_t>(comm.rank());
+  std::vector<std::uint64_t> send(ranks);
+  for (std::uint64_t r = 0; r < ranks; ++r) send[r] = 1000 * me + r;
+  const std::vector<std::uint64_t> got = comm.all_to_all(send);
+  ASSERT_EQ(got.size(), ranks);
+  for (std::uint64_t s = 0; s < ranks; ++s) EXPECT_EQ(got[s], 1000 * s + me);
+}
+
 // A first distribution that moves more particles than one migration round carries (2^15 per
 // destination) arrives whole: every particle once, on its owner, with its fields.
 TEST(DistributedDomain, LargeMigrationsArriveWhole) {
