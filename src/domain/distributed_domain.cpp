@@ -262,34 +262,56 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   owned_ = p.size();
   send_.assign(ranks, {});
   const std::size_t cells = grid.top_cells();
-  // Shared maps: which ranks hold particles that read ghosts (need >= 0) in each top cell (one bit
-  // per rank), and the largest `need` radius of those. (An inactive particle of a block step pairs
-  // with no ghost, so ghosts around it alone would be spare.)
-  const std::size_t words = (ranks + 63) / 64;
-  std::vector<std::uint64_t> occupied(cells * words, 0);
-  std::vector<double> need_max(cells, 0.0), reach_max(cells, 0.0);
+  // Which other ranks hold particles that read ghosts (need >= 0) in each top cell, with the
+  // largest `need` radius of theirs there: each rank lists its own cells (a few per particle
+  // share), and every rank gets all lists (O(top cells) bytes per rank, where a shared bitmap of
+  // one bit per rank and cell would grow as P^2). (An inactive particle of a block step pairs with
+  // no ghost, so ghosts around it alone would be spare.)
+  std::vector<double> my_need(cells, -1.0), reach_max(cells, 0.0);
   std::vector<char> mine(cells, 0);  // the top cells holding particles of this rank (it sends from them)
   std::vector<std::size_t> cell_of(owned_);
   for (std::size_t i = 0; i < owned_; ++i) {
     const std::size_t c = cell_of[i] = grid.top_cell_of(p.pos[i]);
     mine[c] = 1;
     reach_max[c] = std::max(reach_max[c], reach(i));
-    const double r = need(i);
-    if (r < 0) continue;
-    occupied[c * words + me / 64] |= std::uint64_t{1} << (me % 64);
-    need_max[c] = std::max(need_max[c], r);
+    my_need[c] = std::max(my_need[c], need(i));
   }
-  comm.bit_or(occupied);
-  comm.max(need_max);
-  const double edge = grid.lattice.cell_size * grid.block;
-  auto holds = [&](std::size_t c, std::size_t r) { return (occupied[c * words + r / 64] >> (r % 64) & 1u) != 0; };
-  auto other_ranks_in = [&](std::size_t c) {
-    for (std::size_t w = 0; w < words; ++w) {
-      const std::uint64_t mask = w == me / 64 ? ~(std::uint64_t{1} << (me % 64)) : ~std::uint64_t{0};
-      if (occupied[c * words + w] & mask) return true;
-    }
-    return false;
+  struct Reading {
+    std::uint64_t cell;
+    double need;
   };
+  std::vector<Reading> reading;
+  for (std::size_t c = 0; c < cells; ++c)
+    if (my_need[c] >= 0) reading.push_back({c, my_need[c]});
+  std::vector<std::byte> listed(reading.size() * sizeof(Reading));
+  if (!reading.empty()) std::memcpy(listed.data(), reading.data(), listed.size());
+  const std::vector<std::vector<std::byte>> lists = comm.all_gather(listed);
+  // readers_of[first[c] .. first[c + 1]): the other ranks reading in cell c; need_max[c]: their
+  // largest need there.
+  std::vector<std::uint32_t> first(cells + 1, 0), readers_of;
+  std::vector<double> need_max(cells, 0.0);
+  const auto each_listed = [&](auto&& f) {
+    for (std::size_t r = 0; r < ranks; ++r) {
+      if (r == me) continue;
+      for (std::size_t k = 0; k < lists[r].size() / sizeof(Reading); ++k) {
+        Reading e;
+        std::memcpy(&e, lists[r].data() + k * sizeof(Reading), sizeof e);
+        f(r, static_cast<std::size_t>(e.cell), e.need);
+      }
+    }
+  };
+  each_listed([&](std::size_t, std::size_t c, double r) {
+    ++first[c + 1];
+    need_max[c] = std::max(need_max[c], r);
+  });
+  for (std::size_t c = 0; c < cells; ++c) first[c + 1] += first[c];
+  readers_of.resize(first[cells]);
+  {
+    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+    each_listed([&](std::size_t r, std::size_t c, double) { readers_of[next[c]++] = static_cast<std::uint32_t>(r); });
+  }
+  const double edge = grid.lattice.cell_size * grid.block;
+  auto other_ranks_in = [&](std::size_t c) { return first[c + 1] > first[c]; };
   // Box-to-box distance between top cells a and b below r?
   auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
     double gap2 = 0;
@@ -334,9 +356,8 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
       // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
       const double R = std::max(need_max[c], reach(j)) * (1.0 + 1e-12);
       if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, c)) >= R * R) continue;
-      for (std::size_t r = 0; r < ranks; ++r)
-        if (r != me && holds(c, r) && std::find(to.begin(), to.end(), r) == to.end())
-          to.push_back(r);
+      for (std::uint32_t k = first[c]; k < first[c + 1]; ++k)
+        if (std::find(to.begin(), to.end(), readers_of[k]) == to.end()) to.push_back(readers_of[k]);
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }
