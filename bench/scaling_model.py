@@ -27,7 +27,9 @@ Assumptions:
     per ghost (whole particle at a halo build, the refreshed fields per step) as measured; migrated
     bytes in proportion to the mean ghosts (both cross a rank's boundary). Messages per exchange of
     the busiest rank: min(P - 1, the measured count at 64 ranks) (the 2M value for larger N).
-  * All-reduce sizes follow the code: the halo's occupancy map and largest radii over all top cells
+  * All-reduce sizes follow the code of 2026-12-04 (the counters' date; since 2026-12-07 the
+    occupancy goes as each rank's list of cells, gathered by all, and the send counts by an
+    all-to-all: docs/performance.md, "Scaling model"): the halo's occupancy map and largest radii over all top cells
     (cells = max(256 P, N / 8), one bit per rank, so ceil(P/64) + 1 words per cell: O(N) and O(P^2)
     per rank, calibrated by one factor against the counters), the migration's P x P send counts
     (8 P^2 bytes), and the physics' selections (constant). An all-reduce of n bytes costs
