@@ -246,6 +246,7 @@ std::string Runner<D>::ranks_json() const {
      << ", \"smoothing_length_sums\": " << rates_.smoothing_length_sums()
      << ", \"involved_evaluations\": " << rates_.involved_evaluations()
      << ", \"involved_widenings\": " << rates_.involved_widenings()
+     << ", \"halo_widenings\": " << rates_.halo_widenings()
      << ", \"traffic\": " << traffic_json(domain_.traffic())
      << ", \"steps\": " << steps_json(steps_begin_, steps_end_)
      << ", \"memory_bytes\": {\"particles\": " << p_.bytes();

@@ -57,6 +57,16 @@ for variant in adaptive constant respa block rescan rescan_block super_steps sca
   accreted=$(tail -1 "$work/$variant/r3t1/diagnostics.csv" | cut -d, -f7)
   [ "$accreted" != "0" ] || { echo "no particle was accreted: the test does not exercise accretion"; fail=1; }
 done
+# ranks.json counts, per rank, the h solves repeated because an h outgrew the halo (docs/formats.md).
+if /usr/bin/python3 -c "
+import json, sys
+ranks = json.load(open(sys.argv[1]))
+sys.exit(0 if len(ranks) == 3 and all(isinstance(r.get('halo_widenings'), int) and r['halo_widenings'] >= 0 for r in ranks) else 1)
+" "$work/block/r3t1/ranks.json"; then
+  echo "ranks.json: halo_widenings on each of 3 ranks"
+else
+  echo "ranks.json: halo_widenings missing on some rank"; fail=1
+fi
 # Initial conditions from a snapshot file (each rank reads a slice; h calibrated over the ranks,
 # which with constant h is the h of every particle), on one process and on 2 ranks.
 for smoothing in adaptive constant; do
