@@ -81,10 +81,6 @@ void Communicator::max(std::span<std::uint64_t> x) const {
 void Communicator::sum(std::span<std::uint64_t> x) const {
   all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_SUM);
 }
-void Communicator::bit_or(std::span<std::uint64_t> x) const {
-  all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_BOR);
-}
-
 double Communicator::sum_in_rank_order(double x) const {
   if (size_ == 1) return x;
   std::vector<double> all(static_cast<std::size_t>(size_));
@@ -231,7 +227,6 @@ void Communicator::max(std::span<double>) const {}
 void Communicator::max(std::span<std::uint64_t>) const {}
 void Communicator::sum(std::span<std::uint64_t>) const {}
 bool Communicator::any(bool x) const { return x; }
-void Communicator::bit_or(std::span<std::uint64_t>) const {}
 double Communicator::sum_in_rank_order(double x) const { return x; }
 
 std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {

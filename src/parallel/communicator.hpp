@@ -49,7 +49,6 @@ class Communicator {
   void max(std::span<double> x) const;
   void max(std::span<std::uint64_t> x) const;
   void sum(std::span<std::uint64_t> x) const;
-  void bit_or(std::span<std::uint64_t> x) const;
   // Sum of one value per rank, added in rank order on every rank: the same bits on every rank for a
   // given rank count, but not across rank counts (for diagnostics, never for particle state).
   double sum_in_rank_order(double x) const;
