@@ -1,6 +1,7 @@
 #include "domain/distributed_domain.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "domain/rank_boxes.hpp"
 
 namespace sphdisk {
 
@@ -254,6 +256,33 @@ std::array<int, D> coord_of_index(const Decomposition<D>& grid, std::size_t inde
   return t;
 }
 
+// This rank's boxes (domain/rank_boxes.hpp), gathered from all ranks: its particles with their
+// largest reach, its reading cells (`cells`, need per cell in need_of) as distance2_to bounds them.
+template <int D, class Cells>
+std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Decomposition<D>& grid,
+                                            const std::vector<Vec<D>>& pos, std::size_t owned,
+                                            const std::function<double(std::size_t)>& reach, const Cells& cells,
+                                            const std::vector<double>& need_of) {
+  RankBoxes<D> mine;
+  for (std::size_t i = 0; i < owned; ++i) {
+    std::array<double, D> x{};
+    for (int k = 0; k < D; ++k) x[static_cast<std::size_t>(k)] = pos[i][k];
+    mine.particles.include(x, x, reach(i));
+  }
+  const double edge = grid.lattice.cell_size * grid.block;
+  for (const auto& e : cells) {
+    const std::array<int, D> t = coord_of_index<D>(grid, static_cast<std::size_t>(e.cell));
+    std::array<double, D> lo{}, hi{};
+    for (std::size_t k = 0; k < D; ++k) {
+      lo[k] = grid.lattice.lo[static_cast<int>(k)] + edge * t[k];
+      hi[k] = lo[k] + edge;
+    }
+    mine.readers.include(lo, hi, need_of[static_cast<std::size_t>(e.cell)]);
+  }
+  const auto values = mine.values();
+  return RankBoxes<D>::of_values(comm.gather_values(values));
+}
+
 template <int D>
 void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
                     const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
@@ -263,10 +292,10 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   send_.assign(ranks, {});
   const std::size_t cells = grid.top_cells();
   // Which other ranks hold particles that read ghosts (need >= 0) in each top cell, with the
-  // largest `need` radius of theirs there: each rank lists its own cells (a few per particle
-  // share), and every rank gets all lists (O(top cells) bytes per rank, where a shared bitmap of
-  // one bit per rank and cell would grow as P^2). (An inactive particle of a block step pairs with
-  // no ghost, so ghosts around it alone would be spare.)
+  // largest `need` radius of theirs there: each rank lists its own cells and sends the list to the
+  // ranks whose particles may come within range of them (list_recipients), so a rank hears from its
+  // neighbours only, where a shared bitmap of one bit per rank and cell would grow as P^2. (An
+  // inactive particle of a block step pairs with no ghost, so ghosts around it alone would be spare.)
   std::vector<double> my_need(cells, -1.0), reach_max(cells, 0.0);
   std::vector<char> mine(cells, 0);  // the top cells holding particles of this rank (it sends from them)
   std::vector<std::size_t> cell_of(owned_);
@@ -285,7 +314,10 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     if (my_need[c] >= 0) reading.push_back({c, my_need[c]});
   std::vector<std::byte> listed(reading.size() * sizeof(Reading));
   if (!reading.empty()) std::memcpy(listed.data(), reading.data(), listed.size());
-  const std::vector<std::vector<std::byte>> lists = comm.all_gather(listed);
+  std::vector<std::vector<std::byte>> to_ranks(ranks);
+  for (const std::size_t r : list_recipients(gather_rank_boxes(comm, grid, p.pos, owned_, reach, reading, my_need), me))
+    to_ranks[r] = listed;
+  const std::vector<std::vector<std::byte>> lists = comm.exchange(to_ranks);
   // readers_of[first[c] .. first[c + 1]): the other ranks reading in cell c; need_max[c]: their
   // largest need there.
   std::vector<std::uint32_t> first(cells + 1, 0), readers_of;

@@ -5,9 +5,9 @@
 //
 // Ghosts are copies of other ranks' particles, appended after the owned ones
 // ([0, owned) owned, [owned, size) ghosts). They are chosen by their owners: particle j goes to rank
-// R when it lies within radius(j) of a top cell in which R has particles (an occupancy map shared by
-// all ranks), so particles that drifted out of their rank's top cells during a step are still
-// served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
+// R when it lies within radius(j) of a top cell in which R has particles that read ghosts (R's list
+// of such cells, sent to the ranks within reach of them: domain/rank_boxes.hpp), so particles that
+// drifted out of their rank's top cells during a step are still served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
 // values before any owned particle reads them.
 #include <functional>
 #include <initializer_list>
@@ -71,7 +71,7 @@ class Halo {
 // What a DistributedDomain has sent, by purpose (sent_traffic() differences around each call).
 struct DomainTraffic {
   Traffic migration;     // particles moved to their owners, with the decomposition's reductions
-  Traffic halo_build;    // ghosts chosen (occupancy-map reductions) and sent whole
+  Traffic halo_build;    // ghosts chosen (ranks' boxes gathered, cell lists to neighbours) and sent whole
   Traffic halo_refresh;  // ghost fields refreshed between passes
   Traffic reductions;    // the physics' global values (min, max, sums, selections)
   Traffic total() const;

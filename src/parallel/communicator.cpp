@@ -81,15 +81,14 @@ void Communicator::max(std::span<std::uint64_t> x) const {
 void Communicator::sum(std::span<std::uint64_t> x) const {
   all_reduce(handle_, size_, x.data(), x.size(), MPI_UINT64_T, MPI_SUM);
 }
-double Communicator::sum_in_rank_order(double x) const {
-  if (size_ == 1) return x;
-  std::vector<double> all(static_cast<std::size_t>(size_));
+std::vector<double> Communicator::gather_values(std::span<const double> mine) const {
+  if (size_ == 1) return {mine.begin(), mine.end()};
+  std::vector<double> all(mine.size() * static_cast<std::size_t>(size_));
   ++g_traffic.reductions;
-  g_traffic.reduction_bytes += sizeof x;
-  check(MPI_Allgather(&x, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, comm_of(handle_)), "MPI_Allgather");
-  double s = 0;
-  for (double v : all) s += v;
-  return s;
+  g_traffic.reduction_bytes += mine.size_bytes();
+  const int n = static_cast<int>(mine.size());
+  check(MPI_Allgather(mine.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, comm_of(handle_)), "MPI_Allgather");
+  return all;
 }
 
 
@@ -227,7 +226,7 @@ void Communicator::max(std::span<double>) const {}
 void Communicator::max(std::span<std::uint64_t>) const {}
 void Communicator::sum(std::span<std::uint64_t>) const {}
 bool Communicator::any(bool x) const { return x; }
-double Communicator::sum_in_rank_order(double x) const { return x; }
+std::vector<double> Communicator::gather_values(std::span<const double> mine) const { return {mine.begin(), mine.end()}; }
 
 std::vector<std::vector<std::byte>> Communicator::exchange(const std::vector<std::vector<std::byte>>& send) const {
   return send;
@@ -248,6 +247,12 @@ MpiSession::~MpiSession() = default;
 void abort_all_ranks(int code) { std::_Exit(code); }
 
 #endif
+
+double Communicator::sum_in_rank_order(double x) const {
+  double s = 0;
+  for (const double v : gather_values(std::span<const double>(&x, 1))) s += v;
+  return s;
+}
 
 std::vector<std::vector<std::byte>> Communicator::all_gather(const std::vector<std::byte>& mine) const {
   return exchange(std::vector<std::vector<std::byte>>(static_cast<std::size_t>(size_), mine));

@@ -19,7 +19,7 @@ namespace sphdisk {
 // What this process has sent so far, counted where it goes through a Communicator (the inputs of
 // a communication-cost model; counting only, no effect on what is sent). Exchanges: personalised
 // all-to-alls, each with one all-to-all of byte counts first; messages and bytes: their non-empty
-// buffers to other ranks. Reductions: all-reduces, all-gathers of one value, barriers and `any`,
+// buffers to other ranks. Reductions: all-reduces, gather_values, barriers and `any`,
 // with their payload bytes per rank. Point-to-point sends count as messages of their own.
 struct Traffic {
   std::uint64_t exchanges = 0, messages = 0, bytes = 0, reductions = 0, reduction_bytes = 0;
@@ -54,6 +54,9 @@ class Communicator {
   double sum_in_rank_order(double x) const;
   // Every rank's bytes on every rank, by rank.
   std::vector<std::vector<std::byte>> all_gather(const std::vector<std::byte>& mine) const;
+  // Every rank's values on every rank, rank after rank (as many from each rank: one collective of
+  // log P latencies, where all_gather is a personalised exchange of P messages).
+  std::vector<double> gather_values(std::span<const double> mine) const;
   // Every rank's text on rank 0, by rank (empty elsewhere).
   std::vector<std::string> gather_to_root(const std::string& mine) const;
   // True on every rank when any rank passes true (a collective decision).

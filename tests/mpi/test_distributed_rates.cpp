@@ -246,6 +246,19 @@ TEST(Communicator, AllToAllDeliversEachRanksValueBySender) {
   for (std::uint64_t s = 0; s < ranks; ++s) EXPECT_EQ(got[s], 1000 * s + me);
 }
 
+// Every rank's values arrive on every rank, rank after rank: rank s gives {s, 10 s + 1}.
+TEST(Communicator, GatherValuesGivesEveryRanksValuesInRankOrder) {
+  const Communicator comm = Communicator::world();
+  const double me = comm.rank();
+  const std::vector<double> mine{me, 10 * me + 1};
+  const std::vector<double> got = comm.gather_values(mine);
+  ASSERT_EQ(got.size(), 2 * static_cast<std::size_t>(comm.size()));
+  for (std::size_t s = 0; s < got.size() / 2; ++s) {
+    EXPECT_EQ(got[2 * s], static_cast<double>(s));
+    EXPECT_EQ(got[2 * s + 1], 10.0 * static_cast<double>(s) + 1);
+  }
+}
+
 // A first distribution that moves more particles than one migration round carries (2^15 per
 // destination) arrives whole: every particle once, on its owner, with its fields.
 TEST(DistributedDomain, LargeMigrationsArriveWhole) {
