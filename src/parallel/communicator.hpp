@@ -18,8 +18,9 @@ namespace sphdisk {
 
 // What this process has sent so far, counted where it goes through a Communicator (the inputs of
 // a communication-cost model; counting only, no effect on what is sent). Exchanges: personalised
-// all-to-alls, each with one all-to-all of byte counts first; messages and bytes: their non-empty
-// buffers to other ranks. Reductions: all-reduces, gather_values, barriers and `any`,
+// all-to-alls, each with one all-to-all of byte counts first, and all_to_all of one value per rank
+// (which counts as such an opening alone); messages and bytes: the exchanges' non-empty buffers
+// to other ranks. Reductions: all-reduces, gather_values, barriers and `any`,
 // with their payload bytes per rank. Point-to-point sends count as messages of their own.
 struct Traffic {
   std::uint64_t exchanges = 0, messages = 0, bytes = 0, reductions = 0, reduction_bytes = 0;
