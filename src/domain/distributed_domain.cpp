@@ -257,12 +257,11 @@ std::array<int, D> coord_of_index(const Decomposition<D>& grid, std::size_t inde
 }
 
 // This rank's boxes (domain/rank_boxes.hpp), gathered from all ranks: its particles with their
-// largest reach, its reading cells (`cells`, need per cell in need_of) as distance2_to bounds them.
+// largest reach, its reading cells (`cells`: cell and need) as distance2_to bounds them.
 template <int D, class Cells>
 std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Decomposition<D>& grid,
                                             const std::vector<Vec<D>>& pos, std::size_t owned,
-                                            const std::function<double(std::size_t)>& reach, const Cells& cells,
-                                            const std::vector<double>& need_of) {
+                                            const std::function<double(std::size_t)>& reach, const Cells& cells) {
   RankBoxes<D> mine;
   for (std::size_t i = 0; i < owned; ++i) {
     std::array<double, D> x{};
@@ -277,10 +276,16 @@ std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Deco
       lo[k] = grid.lattice.lo[static_cast<int>(k)] + edge * t[k];
       hi[k] = lo[k] + edge;
     }
-    mine.readers.include(lo, hi, need_of[static_cast<std::size_t>(e.cell)]);
+    mine.readers.include(lo, hi, e.need);
   }
   const auto values = mine.values();
   return RankBoxes<D>::of_values(comm.gather_values(values));
+}
+
+// Position of `cell` in the sorted `cells`, or cells.size() where it is not there.
+std::size_t slot_in(const std::vector<std::uint64_t>& cells, std::uint64_t cell) {
+  const auto it = std::lower_bound(cells.begin(), cells.end(), cell);
+  return it != cells.end() && *it == cell ? static_cast<std::size_t>(it - cells.begin()) : cells.size();
 }
 
 template <int D>
@@ -290,60 +295,73 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   const auto me = static_cast<std::size_t>(comm.rank());
   owned_ = p.size();
   send_.assign(ranks, {});
-  const std::size_t cells = grid.top_cells();
   // Which other ranks hold particles that read ghosts (need >= 0) in each top cell, with the
   // largest `need` radius of theirs there: each rank lists its own cells and sends the list to the
   // ranks whose particles may come within range of them (list_recipients), so a rank hears from its
   // neighbours only, where a shared bitmap of one bit per rank and cell would grow as P^2. (An
   // inactive particle of a block step pairs with no ghost, so ghosts around it alone would be spare.)
-  std::vector<double> my_need(cells, -1.0), reach_max(cells, 0.0);
-  std::vector<char> mine(cells, 0);  // the top cells holding particles of this rank (it sends from them)
-  std::vector<std::size_t> cell_of(owned_);
+  // Everything below is kept for this rank's own cells and the listed ones only, never for every
+  // top cell of the grid (whose number grows with P).
+  std::vector<std::uint64_t> my_cells(owned_);  // the top cells holding particles of this rank, sorted
+  for (std::size_t i = 0; i < owned_; ++i) my_cells[i] = grid.top_cell_of(p.pos[i]);
+  std::vector<std::uint32_t> slot_of(owned_);  // each particle's place in my_cells
+  {
+    std::vector<std::uint64_t> sorted = my_cells;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    for (std::size_t i = 0; i < owned_; ++i) slot_of[i] = static_cast<std::uint32_t>(slot_in(sorted, my_cells[i]));
+    my_cells = std::move(sorted);
+  }
+  std::vector<double> my_need(my_cells.size(), -1.0), reach_max(my_cells.size(), 0.0);
   for (std::size_t i = 0; i < owned_; ++i) {
-    const std::size_t c = cell_of[i] = grid.top_cell_of(p.pos[i]);
-    mine[c] = 1;
-    reach_max[c] = std::max(reach_max[c], reach(i));
-    my_need[c] = std::max(my_need[c], need(i));
+    reach_max[slot_of[i]] = std::max(reach_max[slot_of[i]], reach(i));
+    my_need[slot_of[i]] = std::max(my_need[slot_of[i]], need(i));
   }
   struct Reading {
     std::uint64_t cell;
     double need;
   };
   std::vector<Reading> reading;
-  for (std::size_t c = 0; c < cells; ++c)
-    if (my_need[c] >= 0) reading.push_back({c, my_need[c]});
+  for (std::size_t k = 0; k < my_cells.size(); ++k)
+    if (my_need[k] >= 0) reading.push_back({my_cells[k], my_need[k]});
   std::vector<std::byte> listed(reading.size() * sizeof(Reading));
   if (!reading.empty()) std::memcpy(listed.data(), reading.data(), listed.size());
   std::vector<std::vector<std::byte>> to_ranks(ranks);
-  for (const std::size_t r : list_recipients(gather_rank_boxes(comm, grid, p.pos, owned_, reach, reading, my_need), me))
+  for (const std::size_t r : list_recipients(gather_rank_boxes(comm, grid, p.pos, owned_, reach, reading), me))
     to_ranks[r] = listed;
   const std::vector<std::vector<std::byte>> lists = comm.exchange(to_ranks);
-  // readers_of[first[c] .. first[c + 1]): the other ranks reading in cell c; need_max[c]: their
-  // largest need there.
-  std::vector<std::uint32_t> first(cells + 1, 0), readers_of;
-  std::vector<double> need_max(cells, 0.0);
   const auto each_listed = [&](auto&& f) {
     for (std::size_t r = 0; r < ranks; ++r) {
       if (r == me) continue;
       for (std::size_t k = 0; k < lists[r].size() / sizeof(Reading); ++k) {
         Reading e;
         std::memcpy(&e, lists[r].data() + k * sizeof(Reading), sizeof e);
-        f(r, static_cast<std::size_t>(e.cell), e.need);
+        f(r, e.cell, e.need);
       }
     }
   };
-  each_listed([&](std::size_t, std::size_t c, double r) {
-    ++first[c + 1];
-    need_max[c] = std::max(need_max[c], r);
+  // The listed cells, sorted; for the u-th, readers_of[first[u] .. first[u + 1]): the other ranks
+  // reading there, and need_max[u]: their largest need.
+  std::vector<std::uint64_t> listed_cells;
+  each_listed([&](std::size_t, std::uint64_t c, double) { listed_cells.push_back(c); });
+  std::sort(listed_cells.begin(), listed_cells.end());
+  listed_cells.erase(std::unique(listed_cells.begin(), listed_cells.end()), listed_cells.end());
+  std::vector<std::uint32_t> first(listed_cells.size() + 1, 0), readers_of;
+  std::vector<double> need_max(listed_cells.size(), 0.0);
+  each_listed([&](std::size_t, std::uint64_t c, double r) {
+    const std::size_t u = slot_in(listed_cells, c);
+    ++first[u + 1];
+    need_max[u] = std::max(need_max[u], r);
   });
-  for (std::size_t c = 0; c < cells; ++c) first[c + 1] += first[c];
-  readers_of.resize(first[cells]);
+  for (std::size_t u = 0; u < listed_cells.size(); ++u) first[u + 1] += first[u];
+  readers_of.resize(first.back());
   {
     std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
-    each_listed([&](std::size_t r, std::size_t c, double) { readers_of[next[c]++] = static_cast<std::uint32_t>(r); });
+    each_listed([&](std::size_t r, std::uint64_t c, double) {
+      readers_of[next[slot_in(listed_cells, c)]++] = static_cast<std::uint32_t>(r);
+    });
   }
   const double edge = grid.lattice.cell_size * grid.block;
-  auto other_ranks_in = [&](std::size_t c) { return first[c + 1] > first[c]; };
   // Box-to-box distance between top cells a and b below r?
   auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
     double gap2 = 0;
@@ -353,28 +371,28 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     }
     return gap2 < r * r;
   };
-  // Per top cell s holding particles of this rank: the cells c of other ranks its particles may have
-  // to go to, where the box gap is below max(need_max[c], reach_max[s]) -- i.e. below reach_max[s]
-  // (scan around s) or below need_max[c] (scan around c). Each scan spans its own cell's radius, not
-  // the widest of all (one particle with a large h would otherwise widen every cell's scan).
-  std::vector<std::vector<std::uint32_t>> targets(cells);
+  // Per own cell: the listed cells (by place u) its particles may have to go to, where the box gap
+  // is below max(need_max[u], reach_max of the own cell) -- i.e. below the reach (scan around the
+  // own cell) or below need_max[u] (scan around the listed one). Each scan spans its own cell's
+  // radius, not the widest of all (one particle with a large h would otherwise widen every scan).
+  std::vector<std::vector<std::uint32_t>> targets(my_cells.size());
   const double margin = 1.0 + 1e-12;
-  for (std::size_t s = 0; s < cells; ++s) {
-    if (!mine[s] || reach_max[s] <= 0) continue;
-    const std::array<int, D> ts = coord_of_index<D>(grid, s);
-    const double R = reach_max[s] * margin;
+  for (std::size_t k = 0; k < my_cells.size(); ++k) {
+    if (reach_max[k] <= 0) continue;
+    const std::array<int, D> ts = coord_of_index<D>(grid, static_cast<std::size_t>(my_cells[k]));
+    const double R = reach_max[k] * margin;
     for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
-      const std::size_t c = grid.top_index(tc);
-      if (other_ranks_in(c) && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
+      const std::size_t u = slot_in(listed_cells, grid.top_index(tc));
+      if (u < listed_cells.size() && within(tc, ts, R)) targets[k].push_back(static_cast<std::uint32_t>(u));
     });
   }
-  for (std::size_t c = 0; c < cells; ++c) {
-    if (!other_ranks_in(c) || need_max[c] <= 0) continue;
-    const std::array<int, D> tc = coord_of_index<D>(grid, c);
-    const double R = need_max[c] * margin;
+  for (std::size_t u = 0; u < listed_cells.size(); ++u) {
+    if (need_max[u] <= 0) continue;
+    const std::array<int, D> tc = coord_of_index<D>(grid, static_cast<std::size_t>(listed_cells[u]));
+    const double R = need_max[u] * margin;
     for_each_top_cell_near<D>(grid, tc, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& ts) {
-      const std::size_t s = grid.top_index(ts);
-      if (mine[s] && within(tc, ts, R)) targets[s].push_back(static_cast<std::uint32_t>(c));
+      const std::size_t k = slot_in(my_cells, grid.top_index(ts));
+      if (k < my_cells.size() && within(tc, ts, R)) targets[k].push_back(static_cast<std::uint32_t>(u));
     });
   }
   for (auto& t : targets) {
@@ -384,11 +402,12 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
     to.clear();
-    for (const std::uint32_t c : targets[cell_of[j]]) {
+    for (const std::uint32_t u : targets[slot_of[j]]) {
       // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
-      const double R = std::max(need_max[c], reach(j)) * (1.0 + 1e-12);
-      if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, c)) >= R * R) continue;
-      for (std::uint32_t k = first[c]; k < first[c + 1]; ++k)
+      const double R = std::max(need_max[u], reach(j)) * (1.0 + 1e-12);
+      if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, static_cast<std::size_t>(listed_cells[u]))) >= R * R)
+        continue;
+      for (std::uint32_t k = first[u]; k < first[u + 1]; ++k)
         if (std::find(to.begin(), to.end(), readers_of[k]) == to.end()) to.push_back(readers_of[k]);
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
