@@ -2,7 +2,7 @@
 # Strong scaling over MPI ranks (P98 Figs. 9 and 10): ring runs of a fixed number of steps on
 # 1..R ranks x T threads for several particle numbers; time per step, speedup, efficiency,
 # communication share and load imbalance per run from each rank's phase timers (ranks.json).
-# Writes runs/bench/mpi_scaling.csv and .png. Run on an otherwise idle machine; ranks beyond the
+# Writes runs/bench/mpi_scaling_SMOOTHING.csv and .png. Run on an otherwise idle machine; ranks beyond the
 # core count are oversubscribed and measure nothing about scaling.
 # Usage: bench/mpi_scaling.sh [--ranks "1 2"] [--threads 1] [--steps 40] [--smoothing adaptive]
 #                             [--repeats 1] [N ...]   (default N: 10000 100000 500000)

@@ -8,11 +8,12 @@ published figures. The model of one step on P ranks:
 
     t(P) = max_r C_r + max_r M_r
 
-    C_r = c_pair * pairs_r + c_scan * cells * words             compute (rank r's pairs; ghost choice)
+    C_r = c_pair * pairs_r + c_scan * cells                      compute (rank r's pairs; ghost choice)
     M_r = sum over purposes (migration, halo build, halo refresh, reductions) of
-            E * alpha * ceil(log2 P)                             byte-count all-to-all of each exchange
+            E * (alpha * ceil(log2 P) + 8 P / B_R)               byte-count all-to-all of each exchange
           + m_r * alpha + b_r / B                                point-to-point messages and bytes
-          + R * alpha * ceil(log2 P) + 2 * b_R / B               all-reduces (R calls, b_R bytes each rank)
+          + R * alpha * ceil(log2 P) + 2 * b_R / B_R             all-reduces (R calls, b_R bytes each rank)
+          + G * (alpha * ceil(log2 P) + (P - 1) * b_G / B_R)     all-gathers (G calls of b_G bytes each rank)
 
 Assumptions:
   * Ranks wait for each other at every exchange, so the slowest rank's compute and the busiest
@@ -27,14 +28,19 @@ Assumptions:
     per ghost (whole particle at a halo build, the refreshed fields per step) as measured; migrated
     bytes in proportion to the mean ghosts (both cross a rank's boundary). Messages per exchange of
     the busiest rank: min(P - 1, the measured count at 64 ranks) (the 2M value for larger N).
-  * All-reduce sizes follow the code of 2026-12-04 (the counters' date; since 2026-12-07 the
-    occupancy goes as each rank's list of cells, gathered by all, and the send counts by an
-    all-to-all: docs/performance.md, "Scaling model"): the halo's occupancy map and largest radii over all top cells
-    (cells = max(256 P, N / 8), one bit per rank, so ceil(P/64) + 1 words per cell: O(N) and O(P^2)
-    per rank, calibrated by one factor against the counters), the migration's P x P send counts
-    (8 P^2 bytes), and the physics' selections (constant). An all-reduce of n bytes costs
-    ceil(log2 P) latencies and 2 n / B (reduce-scatter and all-gather).
-  * c_scan (choosing ghosts over every top cell of the global map) is an assumed 1 ns per cell-word.
+  * Collectives as the code has them: each halo build gathers every rank's two boxes (BOX_BYTES per
+    rank, domain/rank_boxes.hpp; all P boxes arrive on every rank) and sends its list of reading
+    cells to the ranks within reach only (counted among the build's messages and bytes); the
+    migration's send counts go by an all-to-all of one value per rank (an exchange's opening);
+    the migration's check of the balance sums one count per rank (8 P bytes) and takes one maximum;
+    the other all-reduces (the physics' selections, the build's few values) have sizes that do not
+    grow with P. (A rebalance, when the counts drift past the threshold, sums one weight per top
+    cell, O(P) bytes per rank: rare, and not in the step modelled here.) An all-reduce of n bytes costs ceil(log2 P) latencies and
+    2 n / B_R (reduce-scatter and all-gather).
+  * c_scan: each halo build walks the rank's own and listed top cells, ~(owned + ghosts) / 8 (8
+    particles per top cell), an assumed 1 ns per cell. What still grows with P on every rank: the
+    decomposition's owner of every top cell (4 bytes x 256 P), the gathered boxes (80 P bytes per
+    build), each exchange's byte counts (8 P) and the balance check (8 P).
   * Machines: "here" (measured: c_pair from 1-rank CPU time per step; alpha, the exchange's B and
     the all-reduce's B from comm_bench over shared memory); Cray T3E-900 (one rank per node, alpha
     12.5 us, 300 MB/s per link, c_pair scaled by T3E_COMPUTE_FACTOR below); an InfiniBand cluster
@@ -60,7 +66,8 @@ import numpy as np
 
 PURPOSES = ("migration", "halo_build", "halo_refresh", "reductions")
 COUNT_THRESHOLD = 1.05   # the rebalancing threshold: owned particles of the fullest rank / mean
-C_SCAN = 1e-9            # seconds per cell-word of the ghost choice's scan over the global map
+C_SCAN = 1e-9            # seconds per top cell of the ghost choice's walk over its own and listed cells
+BOX_BYTES = 80           # a rank's two boxes in 2D: 2 x (2 D + 1) doubles, gathered at each halo build
 # The T3E-900's Alpha 21164 (450 MHz, 900 MFLOP/s peak) against one core here, on this memory-bound
 # loop: ~90 MFLOP/s achieved (10% of peak, typical of gather/scatter codes on it) against the
 # 3.0 GFLOP/s this code's force loop achieves here (docs/performance.md): a factor of ~30 (15-60
@@ -109,13 +116,13 @@ def fit_counters(runs):
     # Particles leaving a rank cross its boundary, like its ghosts: bytes ~ mean ghosts.
     mig = np.array([max(r["migration_bytes"] for r in rs) for rs in multi.values()])
     f["k_migration"] = float(g_mean @ mig / (g_mean @ g_mean))
-    # One factor between the halo-build all-reduce bytes and cells * 8 * (words + 1).
-    est = np.array([f["builds"] * halo_reduction_bytes(n, p, 1.0) for (n, p) in multi])
-    got = np.array([rs[0]["halo_build_reduction_bytes"] for rs in multi.values()])
-    f["k_cells"] = float(est @ got / (est @ est))
+    # Each halo build is two exchanges (cell lists, then ghosts) and one gather of the boxes; its
+    # other all-reduces and the migration's carry a few values each.
+    f["gathers"] = f["builds"] / 2
+    f["halo_reductions"] = np.mean([r["halo_build_reductions"] for r in rows]) - f["gathers"]
+    f["halo_reduction_bytes"] = np.mean([r["halo_build_reduction_bytes"] for r in rows]) - f["gathers"] * BOX_BYTES
     f["phys_reductions"] = np.mean([r["reductions_reductions"] for r in rows])
     f["phys_reduction_bytes"] = np.mean([r["reductions_reduction_bytes"] for r in rows])
-    f["halo_reductions"] = np.mean([r["halo_build_reductions"] for r in rows])
     f["migration_reductions"] = np.mean([r["migration_reductions"] for r in rows])
     f["messages_at_64"] = {n: max(max(r["halo_build_messages"] for r in runs[(n, 64)]) / f["builds"],
                                   max(r["halo_refresh_messages"] for r in runs[(n, 64)]) / f["refreshes"])
@@ -151,13 +158,9 @@ def halo_volume_estimate(owned, neighbours=60, margin=1.25, cell_particles=8):
     return 4 * math.sqrt(owned) * w + math.pi * w * w
 
 
-def halo_cells(n, p):
-    return max(256 * p, n / 8)
-
-
-def halo_reduction_bytes(n, p, k_cells):
-    """All-reduce bytes of one halo build: occupancy bits and largest radii per top cell."""
-    return k_cells * halo_cells(n, p) * 8 * (math.ceil(p / 64) + 1)
+def halo_cells(owned, ghosts):
+    """Top cells a halo build walks: the rank's own and the listed ones, 8 particles per cell."""
+    return (owned + ghosts) / 8
 
 
 def count_imbalance(p, runs):
@@ -175,33 +178,40 @@ def step_counts(n, p, f, runs, use_measured=True):
         rs = runs[(n, p)]
         mx = lambda k: max(r[k] for r in rs)
         c = dict(measured=True, pairs=mx("pair_interactions"), ghosts=mx("ghosts"),
-                 cells=halo_cells(n, p), words=math.ceil(p / 64))
+                 cells=halo_cells(mx("owned"), mx("ghosts")))
         for q in PURPOSES:
             c[q] = dict(exchanges=rs[0][f"{q}_exchanges"], messages=mx(f"{q}_messages"), bytes=mx(f"{q}_bytes"),
-                        reductions=rs[0][f"{q}_reductions"], reduction_bytes=rs[0][f"{q}_reduction_bytes"])
+                        reductions=rs[0][f"{q}_reductions"], reduction_bytes=rs[0][f"{q}_reduction_bytes"],
+                        gathers=0, gather_bytes=0)
+        # The build's gathers are counted among its reductions.
+        h = c["halo_build"]
+        h.update(gathers=f["gathers"], gather_bytes=BOX_BYTES, reductions=h["reductions"] - f["gathers"],
+                 reduction_bytes=h["reduction_bytes"] - f["gathers"] * BOX_BYTES)
         # A rank's exchange costs what it sends or what it receives, whichever is more; the counters
         # hold what each rank sent, its ghosts what it received.
         c["halo_build"]["bytes"] = max(c["halo_build"]["bytes"], f["build_bytes_per_ghost"] * c["ghosts"])
         c["halo_refresh"]["bytes"] = max(c["halo_refresh"]["bytes"], f["refresh_bytes_per_ghost"] * c["ghosts"])
         return c
     if p == 1:
-        return dict(measured=False, pairs=f["p_o"] * n, ghosts=0, cells=0, words=0,
-                    **{q: dict(exchanges=0, messages=0, bytes=0, reductions=0, reduction_bytes=0) for q in PURPOSES})
+        return dict(measured=False, pairs=f["p_o"] * n, ghosts=0, cells=0,
+                    **{q: dict(exchanges=0, messages=0, bytes=0, reductions=0, reduction_bytes=0, gathers=0,
+                               gather_bytes=0) for q in PURPOSES})
     g_max = mean_ghosts(n, p, f) + f["extra"]
     m64 = f["messages_at_64"].get(n, f["messages_at_64"][max(f["messages_at_64"])])
     msgs = min(p - 1, m64)
     # The busiest rank's extra ghosts are spare ones (measured: no more pairs than the others).
     c = dict(measured=False, pairs=f["p_o"] * n / p * count_imbalance(p, runs) + f["p_g"] * mean_ghosts(n, p, f),
-             ghosts=g_max, cells=halo_cells(n, p), words=math.ceil(p / 64))
+             ghosts=g_max, cells=halo_cells(n / p * count_imbalance(p, runs), g_max))
+    none = dict(gathers=0, gather_bytes=0)
     c["halo_build"] = dict(exchanges=f["builds"], messages=msgs * f["builds"],
                            bytes=f["build_bytes_per_ghost"] * g_max, reductions=f["halo_reductions"],
-                           reduction_bytes=f["builds"] * halo_reduction_bytes(n, p, f["k_cells"]))
+                           reduction_bytes=f["halo_reduction_bytes"], gathers=f["gathers"], gather_bytes=BOX_BYTES)
     c["halo_refresh"] = dict(exchanges=f["refreshes"], messages=msgs * f["refreshes"],
-                             bytes=f["refresh_bytes_per_ghost"] * g_max, reductions=0, reduction_bytes=0)
+                             bytes=f["refresh_bytes_per_ghost"] * g_max, reductions=0, reduction_bytes=0, **none)
     c["migration"] = dict(exchanges=f["migration_exchanges"], messages=msgs, bytes=f["k_migration"] * mean_ghosts(n, p, f),
-                          reductions=f["migration_reductions"], reduction_bytes=8.0 * p * p + 8.0 * p)
+                          reductions=f["migration_reductions"], reduction_bytes=8.0 * (p + 1), **none)
     c["reductions"] = dict(exchanges=0, messages=0, bytes=0, reductions=f["phys_reductions"],
-                           reduction_bytes=f["phys_reduction_bytes"])
+                           reduction_bytes=f["phys_reduction_bytes"], **none)
     return c
 
 
@@ -234,19 +244,25 @@ class Machine:
         inside = calls * math.ceil(math.log2(self.rpn)) * self.alpha + 2 * nbytes / self.reduce_bandwidth
         return inside + calls * math.ceil(math.log2(nodes)) * self.net_alpha + 2 * nbytes / self.net_bandwidth
 
+    def all_gather(self, calls, nbytes, p):
+        """Each rank receives (P - 1) n bytes: an all-reduce's cost with 2 n replaced by that."""
+        return self.all_reduce(calls, (p - 1) * nbytes / 2, p)
+
     def step(self, c, p):
         """Seconds per step and its parts for the busiest rank's counts c."""
-        parts = dict(compute=self.c_pair * c["pairs"], scan=C_SCAN * c["cells"] * max(c["words"], 1) * (p > 1),
+        parts = dict(compute=self.c_pair * c["pairs"], scan=C_SCAN * c["cells"] * (p > 1),
                      latency=0.0, bandwidth=0.0, reduction=0.0)
         lat = math.ceil(math.log2(p)) if p > 1 else 0
         for q in PURPOSES:
             t = c[q]
             alpha = self.alpha if self.off_node(p) == 0 else self.net_alpha
             parts["latency"] += t["exchanges"] * lat * alpha
+            parts["bandwidth"] += t["exchanges"] * 8 * p / self.reduce_bandwidth * (p > 1)  # the byte counts
             pp = self.point_to_point(t["messages"], t["bytes"], p)
             parts["latency"] += self.point_to_point(t["messages"], 0, p)
             parts["bandwidth"] += pp - self.point_to_point(t["messages"], 0, p)
             parts["reduction"] += self.all_reduce(t["reductions"], t["reduction_bytes"], p)
+            parts["reduction"] += self.all_gather(t["gathers"], t["gather_bytes"], p)
         return sum(parts.values()), parts
 
 
@@ -315,7 +331,8 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
           f"law of the mean in N/P would have exponent {f['exponent']:.2f}); migration {f['k_migration']:.1f} B per "
           f"mean ghost; "
           f"{f['build_bytes_per_ghost']:.0f} B per ghost per build, {f['refresh_bytes_per_ghost']:.0f} per step "
-          f"refreshed; halo all-reduce factor {f['k_cells']:.2f}; messages at 64 ranks {f['messages_at_64']}")
+          f"refreshed; per build {f['gathers']:.2f} gathers of {BOX_BYTES} B and {f['halo_reductions']:.2f} all-reduces "
+          f"of {f['halo_reduction_bytes']:.0f} B; messages at 64 ranks {f['messages_at_64']}")
 
     print("\nvalidation on this machine (s/step): particles, ranks, model, measured wall (median), busiest "
           "rank's CPU (median), model / CPU")
@@ -342,7 +359,7 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
                   f"halo bytes {ratio('halo_build', 'bytes'):.2f} + {ratio('halo_refresh', 'bytes'):.2f}, "
                   f"messages {ratio('halo_build', 'messages'):.2f}, migration bytes {ratio('migration', 'bytes'):.2f}, "
                   f"all-reduce bytes {ratio('halo_build', 'reduction_bytes'):.2f} + "
-                  f"{ratio('migration', 'reduction_bytes'):.2f}")
+                  f"{ratio('migration', 'reduction_bytes'):.2f} + {ratio('reductions', 'reduction_bytes'):.2f}")
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
     for col, m in enumerate(machines):
         print(f"\n{m.name}:")
@@ -357,22 +374,20 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
                 axes[0][0].plot(p, s, label=f"P98 Fig. 9, {n // 1000}k: {s} on {p} (sec. 5.5)", **style)
                 axes[1][0].plot(p, s / p, **style)
         axes[0][col].set_title(m.name, fontsize=9)
+    for k in (T3E_COMPUTE_FACTOR, 60.0):
+        t3e = Machine("T3E", c_pair * k, 12.5e-6, 300e6, 300e6)
+        print(f"\nT3E-900 (x{k:g}) at P98's points: " + "; ".join(
+            f"{n // 1000}k on {p}: speedup {t3e_speedup(t3e, n, p, f, runs):.0f} (P98 {s})" for n, (p, s) in P98_T3E.items()))
     for m in variants:
         print(f"\nsensitivity, {m.name}:")
         for n in MODEL_N:
             print(half_efficiency_line(n, *scan_ranks(m, n, f, runs)[:3]))
-    for m in machines:
-        print(f"\nwithout the P^2 all-reduces (neighbours-only occupancy, all-to-all of counts), {m.name}:")
-        for n in MODEL_N:
-            print(half_efficiency_line(n, *scan_ranks(m, n, f, runs, without_dense_reductions)[:3]))
     m = machines[1]
-    for label, change in (("this code", lambda c, p: c), ("without the P^2 all-reduces", without_dense_reductions)):
-        print(f"\nhybrid ranks x threads on {m.name}, {label}: efficiency on 1024 / 4096 cores with 1, 8, 32 "
-              f"threads per rank:")
-        for n in MODEL_N:
-            print(f"  N={n:>11,}: " + "; ".join(
-                f"{hybrid_efficiency(m, n, 1024, t, f, runs, change):.0%} / "
-                f"{hybrid_efficiency(m, n, 4096, t, f, runs, change):.0%}" for t in (1, 8, 32)))
+    print(f"\nhybrid ranks x threads on {m.name}: efficiency on 1024 / 4096 cores with 1, 8, 32 threads per rank:")
+    for n in MODEL_N:
+        print(f"  N={n:>11,}: " + "; ".join(
+            f"{hybrid_efficiency(m, n, 1024, t, f, runs):.0%} / {hybrid_efficiency(m, n, 4096, t, f, runs):.0%}"
+            for t in (1, 8, 32)))
     for ax in axes.flat:
         ax.set_xscale("log", base=2)
         ax.set_xlabel("ranks")
@@ -392,13 +407,13 @@ def main(counters_csv, comm_csv, steps_csv, cpu_csv, figure):
     print(f"\nfigure -> {figure}")
 
 
-def scan_ranks(m, n, f, runs, change=lambda c, p: c):
+def scan_ranks(m, n, f, runs):
     """One-rank time, the first (P, t, parts) below 50% efficiency, and per P: efficiency, speedup,
-    whether the counters were measured (`change`: the counts as a changed code would have them)."""
+    whether the counters were measured."""
     t1 = m.step(step_counts(n, 1, f, runs), 1)[0]
     eff, spd, meas, below = [], [], [], None
     for p in RANKS:
-        c = change(step_counts(n, p, f, runs), p)
+        c = step_counts(n, p, f, runs)
         t, parts = m.step(c, p)
         spd.append(t1 / t)
         eff.append(t1 / t / p)
@@ -408,20 +423,11 @@ def scan_ranks(m, n, f, runs, change=lambda c, p: c):
     return t1, below, eff, spd, meas
 
 
-def without_dense_reductions(c, p):
-    """The counts with the two P^2 all-reduces replaced by what neighbours-only messages would send:
-    the halo's occupancy of a rank's own and nearby halo cells (~(owned + ghosts) / 8 cells, 16 bytes
-    each) and each rank's P send counts (an all-to-all instead of the P x P sum)."""
-    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in c.items()}
-    if p > 1:
-        builds = out["halo_build"]["exchanges"]
-        out["halo_build"]["reduction_bytes"] = builds * 16 * (c["ghosts"] + c["pairs"] / 32) / 8
-        out["migration"]["reduction_bytes"] = 8.0 * p
-        out["cells"], out["words"] = 0, 0
-    return out
+def t3e_speedup(m, n, p, f, runs):
+    return m.step(step_counts(n, 1, f, runs), 1)[0] / m.step(step_counts(n, p, f, runs), p)[0]
 
 
-def hybrid_efficiency(m, n, cores, threads, f, runs, change=lambda c, p: c, thread_efficiency=0.85):
+def hybrid_efficiency(m, n, cores, threads, f, runs, thread_efficiency=0.85):
     """Efficiency on `cores` cores as cores / threads ranks of `threads` threads each (the rank's
     compute divided among its threads at thread_efficiency, its communication unchanged; a node
     holds 1 / threads as many ranks)."""
@@ -429,7 +435,7 @@ def hybrid_efficiency(m, n, cores, threads, f, runs, change=lambda c, p: c, thre
     p = max(cores // threads, 1)
     m = copy.copy(m)
     m.rpn = max(m.rpn // threads, 1)
-    t, parts = m.step(change(step_counts(n, p, f, runs), p), p)
+    t, parts = m.step(step_counts(n, p, f, runs), p)
     t -= parts["compute"] * (1 - 1 / (threads * (thread_efficiency if threads > 1 else 1.0)))
     return t1 / t / cores
 
