@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "domain/rank_boxes.hpp"
+#include "domain/top_cell_set.hpp"
 
 namespace sphdisk {
 
@@ -266,7 +267,7 @@ std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Deco
   for (std::size_t i = 0; i < owned; ++i) {
     std::array<double, D> x{};
     for (int k = 0; k < D; ++k) x[static_cast<std::size_t>(k)] = pos[i][k];
-    mine.particles.include(x, x, reach(i));
+    mine.particles.include(x, x, std::max(reach(i), 0.0));  // (a radius < 0 would mark the box empty)
   }
   const double edge = grid.lattice.cell_size * grid.block;
   for (const auto& e : cells) {
@@ -282,12 +283,6 @@ std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Deco
   return RankBoxes<D>::of_values(comm.gather_values(values));
 }
 
-// Position of `cell` in the sorted `cells`, or cells.size() where it is not there.
-std::size_t slot_in(const std::vector<std::uint64_t>& cells, std::uint64_t cell) {
-  const auto it = std::lower_bound(cells.begin(), cells.end(), cell);
-  return it != cells.end() && *it == cell ? static_cast<std::size_t>(it - cells.begin()) : cells.size();
-}
-
 template <int D>
 void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
                     const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
@@ -300,30 +295,25 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   // ranks whose particles may come within range of them (list_recipients), so a rank hears from its
   // neighbours only, where a shared bitmap of one bit per rank and cell would grow as P^2. (An
   // inactive particle of a block step pairs with no ghost, so ghosts around it alone would be spare.)
-  // Everything below is kept for this rank's own cells and the listed ones only, never for every
-  // top cell of the grid (whose number grows with P).
-  std::vector<std::uint64_t> my_cells(owned_);  // the top cells holding particles of this rank, sorted
-  for (std::size_t i = 0; i < owned_; ++i) my_cells[i] = grid.top_cell_of(p.pos[i]);
-  std::vector<std::uint32_t> slot_of(owned_);  // each particle's place in my_cells
-  {
-    std::vector<std::uint64_t> sorted = my_cells;
-    std::sort(sorted.begin(), sorted.end());
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    for (std::size_t i = 0; i < owned_; ++i) slot_of[i] = static_cast<std::uint32_t>(slot_in(sorted, my_cells[i]));
-    my_cells = std::move(sorted);
-  }
-  std::vector<double> my_need(my_cells.size(), -1.0), reach_max(my_cells.size(), 0.0);
+  // Everything below is kept for this rank's own cells and the listed ones only (TopCellSet), never
+  // for every top cell of the grid (whose number grows with P).
+  std::vector<std::array<int, D>> coord_of(owned_);
+  for (std::size_t i = 0; i < owned_; ++i) coord_of[i] = grid.top_coord(p.pos[i]);
+  const TopCellSet<D> own(coord_of);
+  std::vector<std::uint32_t> own_place(owned_);
+  std::vector<double> my_need(own.size(), -1.0), reach_max(own.size(), 0.0);
   for (std::size_t i = 0; i < owned_; ++i) {
-    reach_max[slot_of[i]] = std::max(reach_max[slot_of[i]], reach(i));
-    my_need[slot_of[i]] = std::max(my_need[slot_of[i]], need(i));
+    const std::uint32_t k = own_place[i] = own.place(coord_of[i]);
+    reach_max[k] = std::max(reach_max[k], reach(i));
+    my_need[k] = std::max(my_need[k], need(i));
   }
   struct Reading {
     std::uint64_t cell;
     double need;
   };
   std::vector<Reading> reading;
-  for (std::size_t k = 0; k < my_cells.size(); ++k)
-    if (my_need[k] >= 0) reading.push_back({my_cells[k], my_need[k]});
+  for (std::size_t k = 0; k < own.size(); ++k)
+    if (my_need[k] >= 0) reading.push_back({grid.top_index(own.coord(k)), my_need[k]});
   std::vector<std::byte> listed(reading.size() * sizeof(Reading));
   if (!reading.empty()) std::memcpy(listed.data(), reading.data(), listed.size());
   std::vector<std::vector<std::byte>> to_ranks(ranks);
@@ -336,63 +326,73 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
       for (std::size_t k = 0; k < lists[r].size() / sizeof(Reading); ++k) {
         Reading e;
         std::memcpy(&e, lists[r].data() + k * sizeof(Reading), sizeof e);
-        f(r, e.cell, e.need);
+        f(r, coord_of_index<D>(grid, static_cast<std::size_t>(e.cell)), e.need);
       }
     }
   };
-  // The listed cells, sorted; for the u-th, readers_of[first[u] .. first[u + 1]): the other ranks
-  // reading there, and need_max[u]: their largest need.
-  std::vector<std::uint64_t> listed_cells;
-  each_listed([&](std::size_t, std::uint64_t c, double) { listed_cells.push_back(c); });
-  std::sort(listed_cells.begin(), listed_cells.end());
-  listed_cells.erase(std::unique(listed_cells.begin(), listed_cells.end()), listed_cells.end());
-  std::vector<std::uint32_t> first(listed_cells.size() + 1, 0), readers_of;
-  std::vector<double> need_max(listed_cells.size(), 0.0);
-  each_listed([&](std::size_t, std::uint64_t c, double r) {
-    const std::size_t u = slot_in(listed_cells, c);
+  // The listed cells; for the u-th, readers[first[u] .. first[u + 1]): the other ranks reading
+  // there with their need, and need_max[u]: the largest.
+  std::vector<std::array<int, D>> listed_coords;
+  each_listed([&](std::size_t, const std::array<int, D>& t, double) { listed_coords.push_back(t); });
+  const TopCellSet<D> others(listed_coords);
+  struct Reader {
+    std::uint32_t rank;
+    double need;
+  };
+  std::vector<std::uint32_t> first(others.size() + 1, 0);
+  std::vector<Reader> readers;
+  std::vector<double> need_max(others.size(), 0.0);
+  each_listed([&](std::size_t, const std::array<int, D>& t, double r) {
+    const std::uint32_t u = others.place(t);
     ++first[u + 1];
     need_max[u] = std::max(need_max[u], r);
   });
-  for (std::size_t u = 0; u < listed_cells.size(); ++u) first[u + 1] += first[u];
-  readers_of.resize(first.back());
+  for (std::size_t u = 0; u < others.size(); ++u) first[u + 1] += first[u];
+  readers.resize(first.back());
   {
     std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
-    each_listed([&](std::size_t r, std::uint64_t c, double) {
-      readers_of[next[slot_in(listed_cells, c)]++] = static_cast<std::uint32_t>(r);
+    each_listed([&](std::size_t r, const std::array<int, D>& t, double need_r) {
+      readers[next[others.place(t)]++] = {static_cast<std::uint32_t>(r), need_r};
     });
   }
   const double edge = grid.lattice.cell_size * grid.block;
-  // Box-to-box distance between top cells a and b below r?
-  auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
+  // Box-to-box distance below r, from the whole cells between two top cells along each axis?
+  auto apart_within = [&](const std::array<int, D>& cells_apart, double r) {
     double gap2 = 0;
     for (int k = 0; k < D; ++k) {
-      const double gap = std::max(0, std::abs(a[static_cast<std::size_t>(k)] - b[static_cast<std::size_t>(k)]) - 1) * edge;
+      const double gap = cells_apart[static_cast<std::size_t>(k)] * edge;
       gap2 += gap * gap;
     }
     return gap2 < r * r;
   };
+  auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
+    std::array<int, D> apart{};
+    for (std::size_t k = 0; k < D; ++k) apart[k] = std::max(0, std::abs(a[k] - b[k]) - 1);
+    return apart_within(apart, r);
+  };
   // Per own cell: the listed cells (by place u) its particles may have to go to, where the box gap
   // is below max(need_max[u], reach_max of the own cell) -- i.e. below the reach (scan around the
   // own cell) or below need_max[u] (scan around the listed one). Each scan spans its own cell's
-  // radius, not the widest of all (one particle with a large h would otherwise widen every scan).
-  std::vector<std::vector<std::uint32_t>> targets(my_cells.size());
+  // radius, not the widest of all (one particle with a large h would otherwise widen every scan),
+  // and cells beyond that radius of the other set's bounding box are not scanned at all.
+  std::vector<std::vector<std::uint32_t>> targets(own.size());
   const double margin = 1.0 + 1e-12;
-  for (std::size_t k = 0; k < my_cells.size(); ++k) {
-    if (reach_max[k] <= 0) continue;
-    const std::array<int, D> ts = coord_of_index<D>(grid, static_cast<std::size_t>(my_cells[k]));
+  for (std::size_t k = 0; k < own.size() && others.size() > 0; ++k) {
+    const std::array<int, D>& ts = own.coord(k);
     const double R = reach_max[k] * margin;
+    if (reach_max[k] <= 0 || !apart_within(others.cells_apart(ts), R)) continue;
     for_each_top_cell_near<D>(grid, ts, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tc) {
-      const std::size_t u = slot_in(listed_cells, grid.top_index(tc));
-      if (u < listed_cells.size() && within(tc, ts, R)) targets[k].push_back(static_cast<std::uint32_t>(u));
+      const std::uint32_t u = others.place(tc);
+      if (u != TopCellSet<D>::kAbsent && within(tc, ts, R)) targets[k].push_back(u);
     });
   }
-  for (std::size_t u = 0; u < listed_cells.size(); ++u) {
-    if (need_max[u] <= 0) continue;
-    const std::array<int, D> tc = coord_of_index<D>(grid, static_cast<std::size_t>(listed_cells[u]));
+  for (std::size_t u = 0; u < others.size() && own.size() > 0; ++u) {
+    const std::array<int, D>& tc = others.coord(u);
     const double R = need_max[u] * margin;
+    if (need_max[u] <= 0 || !apart_within(own.cells_apart(tc), R)) continue;
     for_each_top_cell_near<D>(grid, tc, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& ts) {
-      const std::size_t k = slot_in(my_cells, grid.top_index(ts));
-      if (k < my_cells.size() && within(tc, ts, R)) targets[k].push_back(static_cast<std::uint32_t>(u));
+      const std::uint32_t k = own.place(ts);
+      if (k != TopCellSet<D>::kAbsent && within(tc, ts, R)) targets[k].push_back(static_cast<std::uint32_t>(u));
     });
   }
   for (auto& t : targets) {
@@ -402,13 +402,17 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
   std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
     to.clear();
-    for (const std::uint32_t u : targets[slot_of[j]]) {
-      // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is harmless.
-      const double R = std::max(need_max[u], reach(j)) * (1.0 + 1e-12);
-      if (grid.distance2_to(p.pos[j], coord_of_index<D>(grid, static_cast<std::size_t>(listed_cells[u]))) >= R * R)
-        continue;
-      for (std::uint32_t k = first[u]; k < first[u + 1]; ++k)
-        if (std::find(to.begin(), to.end(), readers_of[k]) == to.end()) to.push_back(readers_of[k]);
+    const double reach_j = reach(j);
+    for (const std::uint32_t u : targets[own_place[j]]) {
+      // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is
+      // harmless. Each reader by its own need there, so that which lists arrived changes nothing.
+      const double d2 = grid.distance2_to(p.pos[j], others.coord(u));
+      const double R_max = std::max(need_max[u], reach_j) * (1.0 + 1e-12);
+      if (d2 >= R_max * R_max) continue;
+      for (std::uint32_t k = first[u]; k < first[u + 1]; ++k) {
+        const double R = std::max(readers[k].need, reach_j) * (1.0 + 1e-12);
+        if (d2 < R * R && std::find(to.begin(), to.end(), readers[k].rank) == to.end()) to.push_back(readers[k].rank);
+      }
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }

@@ -5,9 +5,10 @@
 //
 // Ghosts are copies of other ranks' particles, appended after the owned ones
 // ([0, owned) owned, [owned, size) ghosts). They are chosen by their owners: particle j goes to rank
-// R when it lies within radius(j) of a top cell in which R has particles that read ghosts (R's list
-// of such cells, sent to the ranks within reach of them: domain/rank_boxes.hpp), so particles that
-// drifted out of their rank's top cells during a step are still served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
+// R when it lies within radius(j), or within R's own need there, of a top cell in which R has
+// particles that read ghosts (R's list of such cells, sent to the ranks within reach of them:
+// domain/rank_boxes.hpp), so particles that drifted out of their rank's top cells during a step
+// are still served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
 // values before any owned particle reads them.
 #include <functional>
 #include <initializer_list>

@@ -235,6 +235,40 @@ TEST(DistributedDomain, OnlyParticlesThatReadGhostsDrawThem) {
   EXPECT_EQ(missing, 0u) << "rank " << comm.rank();
 }
 
+// Ghosts by each reader's own need, whichever ranks read the same top cell, and by the sender's
+// reach even where that is negative. Three ranks, top cells of 1 x 1 on [0, 8] x [0, 2]: rank 0
+// (at (2.5, 0.5), reach 0.5, reading nothing), rank 1 and rank 2 reading in cell (0, 0) with needs
+// 3 and 0.5. Rank 0's particle, 1.5 from the cell, goes to rank 1 only; ranks 1 and 2 share the
+// cell, so each gets the other's. Then rank 0's particle (reach -1) 0.05 from rank 2's cell, rank 1
+// far and reading nothing: it goes to rank 2.
+TEST(DistributedDomain, EachReaderGetsTheGhostsWithinItsOwnNeed) {
+  const Communicator comm = Communicator::world();
+  if (comm.size() != 3) GTEST_SKIP() << "a set-up of three ranks";
+  Decomposition<2> grid;
+  grid.lattice.lo = Vec<2>{0.0, 0.0};
+  grid.lattice.cell_size = 1.0;
+  grid.lattice.dims = {8, 2};
+  grid.top_dims = {8, 2};
+  grid.owner.assign(16, 0);
+  const auto ghosts_of = [&](const std::array<Vec<2>, 3>& at, std::array<double, 3> need, std::array<double, 3> reach) {
+    Particles<2> p;
+    p.resize(1);
+    const auto r = static_cast<std::size_t>(comm.rank());
+    p.pos[0] = at[r];
+    p.id[0] = 100 + r;
+    Halo<2> halo;
+    halo.build(comm, grid, p, [&](std::size_t) { return need[r]; }, [&](std::size_t) { return reach[r]; });
+    return std::vector<std::uint64_t>(p.id.begin() + 1, p.id.end());
+  };
+  using Ids = std::vector<std::uint64_t>;
+  const std::array<Ids, 3> shared{Ids{}, Ids{100, 102}, Ids{101}};
+  EXPECT_EQ(ghosts_of({Vec<2>{2.5, 0.5}, Vec<2>{0.5, 0.5}, Vec<2>{0.6, 0.5}}, {-1, 3, 0.5}, {0.5, 0.1, 0.1}),
+            shared[static_cast<std::size_t>(comm.rank())]);
+  const std::array<Ids, 3> negative_reach{Ids{}, Ids{}, Ids{100}};
+  EXPECT_EQ(ghosts_of({Vec<2>{1.05, 0.5}, Vec<2>{7.5, 1.5}, Vec<2>{0.6, 0.5}}, {-1, -1, 0.5}, {-1, 0.1, 0.1}),
+            negative_reach[static_cast<std::size_t>(comm.rank())]);
+}
+
 // Each rank's value for rank r arrives on r, by sender: rank s sends 1000 s + r to rank r.
 TEST(Communicator, AllToAllDeliversEachRanksValueBySender) {
   const Communicator comm = Communicator::world();
