@@ -2,14 +2,7 @@
 // Particles spread over ranks: decomposition from global counts, migration of particles to their
 // owners, and the halo of ghost particles each rank needs for its owned particles' neighbour sums.
 // Memory per rank is O(N/P + halo): no rank ever holds all particles (unlike P98's broadcast).
-//
-// Ghosts are copies of other ranks' particles, appended after the owned ones
-// ([0, owned) owned, [owned, size) ghosts). They are chosen by their owners: particle j goes to rank
-// R when it lies within radius(j), or within R's own need there, of a top cell in which R has
-// particles that read ghosts (R's list of such cells, sent to the ranks within reach of them:
-// domain/rank_boxes.hpp), so particles that drifted out of their rank's top cells during a step
-// are still served. Rates computed for ghosts are incomplete and are overwritten by refresh() with the owners'
-// values before any owned particle reads them.
+// The halo's ghosts and how they are chosen: domain/halo.hpp.
 #include <functional>
 #include <initializer_list>
 #include <optional>
@@ -18,13 +11,12 @@
 
 #include "core/particles.hpp"
 #include "domain/decomposition.hpp"
+#include "domain/halo.hpp"
+#include "domain/particle_packing.hpp"
 #include "domain/particle_domain.hpp"
 #include "parallel/communicator.hpp"
 
 namespace sphdisk {
-
-// The fields to move: empty = every field of the table.
-using FieldNames = std::vector<std::string_view>;
 
 // The lattice over all ranks' particles and the top cells cut into equal-count runs.
 // min_cell_size as for build_cell_grid; top_cells_per_rank sets the balancing granularity.
@@ -45,29 +37,6 @@ Particles<D> regroup_by_id(const Communicator& comm, const Particles<D>& p, cons
 // True on every rank when no ID occurs twice among all ranks' `ids` (collective; O(N/P) memory:
 // each ID is checked on the rank of its ID range).
 bool ids_unique(const Communicator& comm, const std::vector<std::uint64_t>& ids);
-
-template <int D>
-class Halo {
- public:
-  // Appends the ghosts: every other rank's particle j that lies within need(i) of a particle i of
-  // this rank, or within reach(j) of one (radii of owned particles; found through the top cells of
-  // `grid`, so some spare ghosts come along); particles with need(i) < 0 draw none. p must hold
-  // owned particles only.
-  void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
-             const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach);
-  // Copies the owners' current values of the fields flagged halo_flag (kHaloSmoothingLength,
-  // kHaloDensity or kHaloStress, core/particles.hpp) into the ghosts (same ghosts as build()).
-  void refresh(const Communicator& comm, Particles<D>& p, unsigned halo_flag) const;
-  // Removes the ghosts.
-  void drop(Particles<D>& p) const { p.resize(owned_); }
-
-  std::size_t owned() const { return owned_; }
-  std::size_t ghosts() const { return ghosts_; }
-
- private:
-  std::vector<std::vector<std::uint32_t>> send_;  // per rank: owned particles sent as ghosts
-  std::size_t owned_ = 0, ghosts_ = 0;
-};
 
 // What a DistributedDomain has sent, by purpose (sent_traffic() differences around each call).
 struct DomainTraffic {
