@@ -14,7 +14,6 @@ namespace sphdisk {
 
 using namespace packing;
 
-
 // The lattice over every rank's particles, exactly as one process would build it over all of them
 // (min and max are exact, so the corner and cell size have the same bits), and a top grid on it of
 // about max(top_cells_per_rank x ranks, particles / particles_per_top_cell) cells.

@@ -49,6 +49,16 @@ std::array<int, D> coord_of_index(const Decomposition<D>& grid, std::size_t inde
   return t;
 }
 
+// The names of p's fields whose flags pass `keep`.
+template <int D, class Keep>
+FieldNames fields_where(const Particles<D>& p, Keep keep) {
+  FieldNames fields;
+  p.for_each_field([&](const FieldInfo& info, const auto&) {
+    if (keep(info.flags)) fields.push_back(info.name);
+  });
+  return fields;
+}
+
 // This rank's boxes (domain/rank_boxes.hpp), gathered from all ranks: its particles with their
 // largest reach, its reading cells (`cells`: cell and need) as distance2_to bounds them.
 template <int D, class Cells>
@@ -207,19 +217,18 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }
+  // Without the fields that the density and stress refreshes bring before any pair loop reads them.
+  const FieldNames fields = fields_where(p, [](unsigned flags) { return !(flags & (kHaloDensity | kHaloStress)); });
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
-    if (!send_[r].empty()) send[r] = pack(p, send_[r], {});
-  unpack_all(p, comm.exchange(send));
+    if (!send_[r].empty()) send[r] = pack(p, send_[r], fields);
+  unpack_all(p, comm.exchange(send), fields);
   ghosts_ = p.size() - owned_;
 }
 
 template <int D>
 void Halo<D>::refresh(const Communicator& comm, Particles<D>& p, unsigned halo_flag) const {
-  FieldNames fields;
-  p.for_each_field([&](const FieldInfo& info, const auto&) {
-    if (info.flags & halo_flag) fields.push_back(info.name);
-  });
+  const FieldNames fields = fields_where(p, [halo_flag](unsigned flags) { return (flags & halo_flag) != 0; });
   const auto ranks = static_cast<std::size_t>(comm.size());
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
