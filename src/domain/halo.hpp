@@ -24,7 +24,8 @@ class Halo {
   // Appends the ghosts: every other rank's particle j that lies within need(i) of a particle i of
   // this rank, or within reach(j) of one (radii of owned particles; found through the top cells of
   // `grid`, so some spare ghosts come along); particles with need(i) < 0 draw none. p must hold
-  // owned particles only.
+  // owned particles only. Ghosts arrive without the fields flagged kHaloDensity or kHaloStress,
+  // which refresh() brings before any pair loop reads them.
   void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
              const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach);
   // Copies the owners' current values of the fields flagged halo_flag (kHaloSmoothingLength,
