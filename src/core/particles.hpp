@@ -44,6 +44,8 @@ enum FieldFlag : unsigned {
                                         // (PhysicsParams::av_alpha > 0)
   kScatterDensityOnly = 1u << 13,  // read and written only where the consistent viscous force compares
                                    // scatter densities (PhysicsParams::keeps_scatter_density)
+  kOwnerOnly = 1u << 14,  // read only for the particle itself (its integration, its next h, its
+                          // step), never as another's neighbour: ghosts come without it
 };
 
 // Whether the kReduced fields are stored as float (CMake option SPHDISK_SINGLE_PRECISION_FIELDS).
@@ -71,16 +73,16 @@ enum class FieldKind { Id, Ticks, Scalar, Vector, Tensor };
   X(correction, Tensor, "MomentCorrection", kReduced | kRateState | kForceCorrectionOnly | kHaloStress, 0, 0, 0) \
   X(correction_shift, Vector, "MomentCorrectionShift", kRateState | kMixedCorrectionOnly | kHaloStress, -1, 0, 0) \
   X(av_limiter, Scalar, "ViscosityLimiter", kRateState | kArtificialViscosityOnly | kHaloStress, 0, 0, 0)     \
-  X(signal_speed, Scalar, "SignalSpeed", kRateState | kArtificialViscosityOnly,  1,  0, -1)     \
-  X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint,               1,  0, -2)     \
-  X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly,             2,  0, -3)     \
-  X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint,                     1,  0,  0)     \
-  X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint,                     1,  0,  0)     \
-  X(step_ticks, Ticks, "StepTicks",      kStepState,                            0,  0,  0)     \
-  X(v_kick, Vector, "KickedVelocity",    kStepState,                            1,  0, -1)     \
-  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState, 2, 0, -2)   \
+  X(signal_speed, Scalar, "SignalSpeed", kRateState | kArtificialViscosityOnly | kOwnerOnly, 1, 0, -1) \
+  X(acc,   Vector, "Acceleration",       kSnapshot | kCheckpoint | kOwnerOnly,  1,  0, -2)     \
+  X(du_dt, Scalar, "InternalEnergyRate", kCheckpoint | kEnergyOnly | kOwnerOnly, 2, 0, -3)     \
+  X(h_prev, Scalar, "PreviousSmoothingLength", kCheckpoint | kOwnerOnly,        1,  0,  0)     \
+  X(h_prev2, Scalar, "EarlierSmoothingLength", kCheckpoint | kOwnerOnly,        1,  0,  0)     \
+  X(step_ticks, Ticks, "StepTicks",      kStepState | kOwnerOnly,               0,  0,  0)     \
+  X(v_kick, Vector, "KickedVelocity",    kStepState | kOwnerOnly,               1,  0, -1)     \
+  X(u_kick, Scalar, "KickedInternalEnergy", kStepState | kEnergyOnly | kEnergyStepState | kOwnerOnly, 2, 0, -2) \
   X(av_alpha, Scalar, "ViscosityAlpha",  kSnapshot | kCheckpoint | kArtificialViscosityOnly | kHaloStress, 0, 0, 0) \
-  X(compression, Scalar, "Compression",  kArtificialViscosityOnly,              0,  0, -1)     \
+  X(compression, Scalar, "Compression",  kArtificialViscosityOnly | kOwnerOnly,  0,  0, -1)     \
   X(scatter_density, Scalar, "ScatterDensity", kRateState | kScatterDensityOnly | kHaloStress, -2, 1, 0)
 // clang-format on
 // av_alpha, compression: the artificial viscosity's alpha of each particle, and the rate max(-div v, 0)

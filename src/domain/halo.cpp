@@ -217,8 +217,10 @@ void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Part
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
   }
-  // Without the fields that the density and stress refreshes bring before any pair loop reads them.
-  const FieldNames fields = fields_where(p, [](unsigned flags) { return !(flags & (kHaloDensity | kHaloStress)); });
+  // Without the fields that the density and stress refreshes bring before any pair loop reads them,
+  // nor those only a particle's owner reads.
+  const FieldNames fields =
+      fields_where(p, [](unsigned flags) { return !(flags & (kHaloDensity | kHaloStress | kOwnerOnly)); });
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
     if (!send_[r].empty()) send[r] = pack(p, send_[r], fields);

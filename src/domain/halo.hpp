@@ -25,7 +25,7 @@ class Halo {
   // this rank, or within reach(j) of one (radii of owned particles; found through the top cells of
   // `grid`, so some spare ghosts come along); particles with need(i) < 0 draw none. p must hold
   // owned particles only. Ghosts arrive without the fields flagged kHaloDensity or kHaloStress,
-  // which refresh() brings before any pair loop reads them.
+  // which refresh() brings before any pair loop reads them, or kOwnerOnly.
   void build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
              const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach);
   // Copies the owners' current values of the fields flagged halo_flag (kHaloSmoothingLength,
