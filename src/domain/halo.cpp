@@ -59,12 +59,53 @@ FieldNames fields_where(const Particles<D>& p, Keep keep) {
   return fields;
 }
 
+// This rank's top cells: each owned particle's place among them, and per cell the largest need
+// (-1 where no particle reads ghosts) and the largest reach of its particles.
+template <int D>
+struct OwnCells {
+  TopCellSet<D> set;
+  std::vector<std::uint32_t> place_of;  // per owned particle
+  std::vector<double> need, reach;      // per cell
+};
+
+template <int D>
+OwnCells<D> own_cells_of(const Decomposition<D>& grid, const std::vector<Vec<D>>& pos, std::size_t owned,
+                         const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
+  std::vector<std::array<int, D>> coord_of(owned);
+  for (std::size_t i = 0; i < owned; ++i) coord_of[i] = grid.top_coord(pos[i]);
+  OwnCells<D> own{TopCellSet<D>(coord_of), std::vector<std::uint32_t>(owned), {}, {}};
+  own.need.assign(own.set.size(), -1.0);
+  own.reach.assign(own.set.size(), 0.0);
+  for (std::size_t i = 0; i < owned; ++i) {
+    const std::uint32_t k = own.place_of[i] = own.set.place(coord_of[i]);
+    own.reach[k] = std::max(own.reach[k], reach(i));
+    own.need[k] = std::max(own.need[k], need(i));
+  }
+  return own;
+}
+
+// A top cell in which a rank has particles that read ghosts, with their largest need there: what
+// the reading lists carry.
+struct Reading {
+  std::uint64_t cell;
+  double need;
+};
+
+// Another rank's reading cell, as received.
+template <int D>
+struct ListedReading {
+  std::uint32_t rank;
+  std::array<int, D> cell;
+  double need;
+};
+
 // This rank's boxes (domain/rank_boxes.hpp), gathered from all ranks: its particles with their
-// largest reach, its reading cells (`cells`: cell and need) as distance2_to bounds them.
-template <int D, class Cells>
+// largest reach, its reading cells as distance2_to bounds them.
+template <int D>
 std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Decomposition<D>& grid,
                                             const std::vector<Vec<D>>& pos, std::size_t owned,
-                                            const std::function<double(std::size_t)>& reach, const Cells& cells) {
+                                            const std::function<double(std::size_t)>& reach,
+                                            const std::vector<Reading>& cells) {
   RankBoxes<D> mine;
   for (std::size_t i = 0; i < owned; ++i) {
     std::array<double, D> x{};
@@ -72,7 +113,7 @@ std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Deco
     mine.particles.include(x, x, std::max(reach(i), 0.0));  // (a radius < 0 would mark the box empty)
   }
   const double edge = grid.lattice.cell_size * grid.block;
-  for (const auto& e : cells) {
+  for (const Reading& e : cells) {
     const std::array<int, D> t = coord_of_index<D>(grid, static_cast<std::size_t>(e.cell));
     std::array<double, D> lo{}, hi{};
     for (std::size_t k = 0; k < D; ++k) {
@@ -85,134 +126,148 @@ std::vector<RankBoxes<D>> gather_rank_boxes(const Communicator& comm, const Deco
   return RankBoxes<D>::of_values(comm.gather_values(values));
 }
 
-}  // namespace
-
+// Sends this rank's reading cells to the ranks whose particles may come within range of them
+// (list_recipients), so a rank hears from its neighbours only, where a shared bitmap of one bit per
+// rank and cell would grow as P^2; returns the lists received, in rank order. (An inactive particle
+// of a block step pairs with no ghost, so ghosts around it alone would be spare.)
 template <int D>
-void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
-                    const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
-  const auto ranks = static_cast<std::size_t>(comm.size());
-  const auto me = static_cast<std::size_t>(comm.rank());
-  owned_ = p.size();
-  send_.assign(ranks, {});
-  // Which other ranks hold particles that read ghosts (need >= 0) in each top cell, with the
-  // largest `need` radius of theirs there: each rank lists its own cells and sends the list to the
-  // ranks whose particles may come within range of them (list_recipients), so a rank hears from its
-  // neighbours only, where a shared bitmap of one bit per rank and cell would grow as P^2. (An
-  // inactive particle of a block step pairs with no ghost, so ghosts around it alone would be spare.)
-  // Everything below is kept for this rank's own cells and the listed ones only (TopCellSet), never
-  // for every top cell of the grid (whose number grows with P).
-  std::vector<std::array<int, D>> coord_of(owned_);
-  for (std::size_t i = 0; i < owned_; ++i) coord_of[i] = grid.top_coord(p.pos[i]);
-  const TopCellSet<D> own(coord_of);
-  std::vector<std::uint32_t> own_place(owned_);
-  std::vector<double> my_need(own.size(), -1.0), reach_max(own.size(), 0.0);
-  for (std::size_t i = 0; i < owned_; ++i) {
-    const std::uint32_t k = own_place[i] = own.place(coord_of[i]);
-    reach_max[k] = std::max(reach_max[k], reach(i));
-    my_need[k] = std::max(my_need[k], need(i));
-  }
-  struct Reading {
-    std::uint64_t cell;
-    double need;
-  };
+std::vector<ListedReading<D>> exchange_reading_lists(const Communicator& comm, const Decomposition<D>& grid,
+                                                     const std::vector<Vec<D>>& pos, std::size_t owned,
+                                                     const std::function<double(std::size_t)>& reach,
+                                                     const OwnCells<D>& own) {
   std::vector<Reading> reading;
-  for (std::size_t k = 0; k < own.size(); ++k)
-    if (my_need[k] >= 0) reading.push_back({grid.top_index(own.coord(k)), my_need[k]});
+  for (std::size_t k = 0; k < own.set.size(); ++k)
+    if (own.need[k] >= 0) reading.push_back({grid.top_index(own.set.coord(k)), own.need[k]});
   std::vector<std::byte> listed(reading.size() * sizeof(Reading));
   if (!reading.empty()) std::memcpy(listed.data(), reading.data(), listed.size());
-  std::vector<std::vector<std::byte>> to_ranks(ranks);
-  for (const std::size_t r : list_recipients(gather_rank_boxes(comm, grid, p.pos, owned_, reach, reading), me))
+  const auto me = static_cast<std::size_t>(comm.rank());
+  std::vector<std::vector<std::byte>> to_ranks(static_cast<std::size_t>(comm.size()));
+  for (const std::size_t r : list_recipients(gather_rank_boxes(comm, grid, pos, owned, reach, reading), me))
     to_ranks[r] = listed;
   const std::vector<std::vector<std::byte>> lists = comm.exchange(to_ranks);
-  const auto each_listed = [&](auto&& f) {
-    for (std::size_t r = 0; r < ranks; ++r) {
-      if (r == me) continue;
-      for (std::size_t k = 0; k < lists[r].size() / sizeof(Reading); ++k) {
-        Reading e;
-        std::memcpy(&e, lists[r].data() + k * sizeof(Reading), sizeof e);
-        f(r, coord_of_index<D>(grid, static_cast<std::size_t>(e.cell)), e.need);
-      }
+  std::vector<ListedReading<D>> received;
+  for (std::size_t r = 0; r < lists.size(); ++r) {
+    if (r == me) continue;
+    for (std::size_t k = 0; k < lists[r].size() / sizeof(Reading); ++k) {
+      Reading e;
+      std::memcpy(&e, lists[r].data() + k * sizeof(Reading), sizeof e);
+      received.push_back({static_cast<std::uint32_t>(r), coord_of_index<D>(grid, static_cast<std::size_t>(e.cell)), e.need});
     }
-  };
-  // The listed cells; for the u-th, readers[first[u] .. first[u + 1]): the other ranks reading
-  // there with their need, and need_max[u]: the largest.
-  std::vector<std::array<int, D>> listed_coords;
-  each_listed([&](std::size_t, const std::array<int, D>& t, double) { listed_coords.push_back(t); });
-  const TopCellSet<D> others(listed_coords);
+  }
+  return received;
+}
+
+// The cells other ranks listed: for the u-th (its place in `set`), the ranks reading there with
+// their need, readers[first[u] .. first[u + 1]), and need_max[u], the largest.
+template <int D>
+struct ListedCells {
   struct Reader {
     std::uint32_t rank;
     double need;
   };
-  std::vector<std::uint32_t> first(others.size() + 1, 0);
+  TopCellSet<D> set;
+  std::vector<std::uint32_t> first;
   std::vector<Reader> readers;
-  std::vector<double> need_max(others.size(), 0.0);
-  each_listed([&](std::size_t, const std::array<int, D>& t, double r) {
-    const std::uint32_t u = others.place(t);
-    ++first[u + 1];
-    need_max[u] = std::max(need_max[u], r);
-  });
-  for (std::size_t u = 0; u < others.size(); ++u) first[u + 1] += first[u];
-  readers.resize(first.back());
-  {
-    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
-    each_listed([&](std::size_t r, const std::array<int, D>& t, double need_r) {
-      readers[next[others.place(t)]++] = {static_cast<std::uint32_t>(r), need_r};
-    });
-  }
-  const double edge = grid.lattice.cell_size * grid.block;
-  // Box-to-box distance below r, from the whole cells between two top cells along each axis?
-  auto apart_within = [&](const std::array<int, D>& cells_apart, double r) {
-    double gap2 = 0;
-    for (int k = 0; k < D; ++k) {
-      const double gap = cells_apart[static_cast<std::size_t>(k)] * edge;
-      gap2 += gap * gap;
+  std::vector<double> need_max;
+
+  explicit ListedCells(const std::vector<ListedReading<D>>& listed) {
+    std::vector<std::array<int, D>> coords;
+    for (const auto& e : listed) coords.push_back(e.cell);
+    set = TopCellSet<D>(coords);
+    first.assign(set.size() + 1, 0);
+    need_max.assign(set.size(), 0.0);
+    for (const auto& e : listed) {
+      const std::uint32_t u = set.place(e.cell);
+      ++first[u + 1];
+      need_max[u] = std::max(need_max[u], e.need);
     }
-    return gap2 < r * r;
-  };
-  auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
+    for (std::size_t u = 0; u < set.size(); ++u) first[u + 1] += first[u];
+    readers.resize(first.back());
+    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+    for (const auto& e : listed) readers[next[set.place(e.cell)]++] = {e.rank, e.need};
+  }
+};
+
+// Whether two top cells lie within r of each other, from the whole cells between them along each
+// axis (the box-to-box distance).
+template <int D>
+bool cells_apart_within(const Decomposition<D>& grid, const std::array<int, D>& cells_apart, double r) {
+  const double edge = grid.lattice.cell_size * grid.block;
+  double gap2 = 0;
+  for (int k = 0; k < D; ++k) {
+    const double gap = cells_apart[static_cast<std::size_t>(k)] * edge;
+    gap2 += gap * gap;
+  }
+  return gap2 < r * r;
+}
+
+// Per own cell: the listed cells (by place) its particles may have to go to, where the box gap is
+// below max(need_max of the listed cell, reach of the own cell) -- i.e. below the reach (scan around
+// the own cell) or below the need (scan around the listed one). Each scan spans its own cell's
+// radius, not the widest of all (one particle with a large h would otherwise widen every scan), and
+// cells beyond that radius of the other set's bounding box are not scanned at all.
+template <int D>
+std::vector<std::vector<std::uint32_t>> target_cells(const Decomposition<D>& grid, const OwnCells<D>& own,
+                                                     const ListedCells<D>& listed) {
+  const double edge = grid.lattice.cell_size * grid.block;
+  const auto within = [&](const std::array<int, D>& a, const std::array<int, D>& b, double r) {
     std::array<int, D> apart{};
     for (std::size_t k = 0; k < D; ++k) apart[k] = std::max(0, std::abs(a[k] - b[k]) - 1);
-    return apart_within(apart, r);
+    return cells_apart_within<D>(grid, apart, r);
   };
-  // Per own cell: the listed cells (by place u) its particles may have to go to, where the box gap
-  // is below max(need_max[u], reach_max of the own cell) -- i.e. below the reach (scan around the
-  // own cell) or below need_max[u] (scan around the listed one). Each scan spans its own cell's
-  // radius, not the widest of all (one particle with a large h would otherwise widen every scan),
-  // and cells beyond that radius of the other set's bounding box are not scanned at all.
-  std::vector<std::vector<std::uint32_t>> targets(own.size());
   const double margin = 1.0 + 1e-12;
-  // Scans around each cell a of `from` by radius[a] for the cells b of `to` (not at all where to's
-  // box lies beyond it), calling found(a, b) for each within it.
-  auto scan = [&](const TopCellSet<D>& from, const std::vector<double>& radius, const TopCellSet<D>& to, auto&& found) {
+  // Scans around each cell a of `from` by radius[a] for the cells b of `to`, calling found(a, b)
+  // for each within it.
+  const auto scan = [&](const TopCellSet<D>& from, const std::vector<double>& radius, const TopCellSet<D>& to, auto&& found) {
     for (std::size_t a = 0; a < from.size() && to.size() > 0; ++a) {
       const std::array<int, D>& ta = from.coord(a);
       const double R = radius[a] * margin;
-      if (radius[a] <= 0 || !apart_within(to.cells_apart(ta), R)) continue;
+      if (radius[a] <= 0 || !cells_apart_within<D>(grid, to.cells_apart(ta), R)) continue;
       for_each_top_cell_near<D>(grid, ta, static_cast<int>(std::ceil(R / edge)), [&](const std::array<int, D>& tb) {
         const std::uint32_t b = to.place(tb);
         if (b != TopCellSet<D>::kAbsent && within(ta, tb, R)) found(a, b);
       });
     }
   };
-  scan(own, reach_max, others, [&](std::size_t k, std::uint32_t u) { targets[k].push_back(u); });
-  scan(others, need_max, own, [&](std::size_t u, std::uint32_t k) { targets[k].push_back(static_cast<std::uint32_t>(u)); });
+  std::vector<std::vector<std::uint32_t>> targets(own.set.size());
+  scan(own.set, own.reach, listed.set, [&](std::size_t k, std::uint32_t u) { targets[k].push_back(u); });
+  scan(listed.set, listed.need_max, own.set, [&](std::size_t u, std::uint32_t k) { targets[k].push_back(static_cast<std::uint32_t>(u)); });
   for (auto& t : targets) {
     std::sort(t.begin(), t.end());
     t.erase(std::unique(t.begin(), t.end()), t.end());
   }
+  return targets;
+}
+
+}  // namespace
+
+// Each rank lists the top cells where its particles read ghosts and sends the list to the ranks
+// within reach; each owner then sends a particle to every listed reader within the reader's need
+// or the particle's reach. Everything is kept for this rank's own cells and the listed ones only
+// (TopCellSet), never for every top cell of the grid (whose number grows with P).
+template <int D>
+void Halo<D>::build(const Communicator& comm, const Decomposition<D>& grid, Particles<D>& p,
+                    const std::function<double(std::size_t)>& need, const std::function<double(std::size_t)>& reach) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  owned_ = p.size();
+  const OwnCells<D> own = own_cells_of(grid, p.pos, owned_, need, reach);
+  const ListedCells<D> listed(exchange_reading_lists(comm, grid, p.pos, owned_, reach, own));
+  const std::vector<std::vector<std::uint32_t>> targets = target_cells(grid, own, listed);
+  send_.assign(ranks, {});
   std::vector<std::size_t> to;
   for (std::size_t j = 0; j < owned_; ++j) {
     to.clear();
     const double reach_j = reach(j);
-    for (const std::uint32_t u : targets[own_place[j]]) {
+    for (const std::uint32_t u : targets[own.place_of[j]]) {
       // 1e-12 margin: the box distance and the pair distance round differently; a spare ghost is
       // harmless. Each reader by its own need there, so that which lists arrived changes nothing.
-      const double d2 = grid.distance2_to(p.pos[j], others.coord(u));
-      const double R_max = std::max(need_max[u], reach_j) * (1.0 + 1e-12);
+      const double d2 = grid.distance2_to(p.pos[j], listed.set.coord(u));
+      const double R_max = std::max(listed.need_max[u], reach_j) * (1.0 + 1e-12);
       if (d2 >= R_max * R_max) continue;
-      for (std::uint32_t k = first[u]; k < first[u + 1]; ++k) {
-        const double R = std::max(readers[k].need, reach_j) * (1.0 + 1e-12);
-        if (d2 < R * R && std::find(to.begin(), to.end(), readers[k].rank) == to.end()) to.push_back(readers[k].rank);
+      for (std::uint32_t k = listed.first[u]; k < listed.first[u + 1]; ++k) {
+        const double R = std::max(listed.readers[k].need, reach_j) * (1.0 + 1e-12);
+        const std::uint32_t r = listed.readers[k].rank;
+        if (d2 < R * R && std::find(to.begin(), to.end(), r) == to.end()) to.push_back(r);
       }
     }
     for (const std::size_t r : to) send_[r].push_back(static_cast<std::uint32_t>(j));
