@@ -73,11 +73,13 @@ std::pair<std::uint32_t, std::uint32_t> row_range(const CellGrid<D>& g, const Ro
   return {s0, s1};
 }
 
-// The ranges of the 2D rows y0..y1 (at most kMaxRows), or of those of the 3D layer z, row_range's
-// for each (candidate_rows.cpp).
+// The ranges of the 2D rows y0..y1 (at most kMaxRows), or of the n 3D rows (ys[k], zs[k]) of any
+// layers (n at most kMaxRows; ys and zs with kMaxRows readable entries), row_range's for each
+// (candidate_rows.cpp).
 constexpr int kMaxRows = 16;
 void row_ranges(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1);
-void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1);
+void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, const int* ys, const int* zs, int n, std::uint32_t* s0,
+                std::uint32_t* s1);
 
 // Visits the candidate neighbours of x within `radius`: in each row of cells within reach (the
 // cells within cells_within(radius) of x's cell in every dimension), the cells that the chord of
@@ -98,30 +100,43 @@ void for_each_candidate_range(const CellGrid<D>& g, const Vec<D>& x, double radi
     const int ck = q.c[static_cast<std::size_t>(k)];
     return after ? ck : std::max(ck - reach, 0);
   };
-  std::array<int, D> r = q.c;
-  // The rows y0..y1 (at r's other coordinates), kMaxRows at a time: their ranges first, then the
-  // scans. The chains of different rows overlap only when no scan lies between them
-  // (docs/performance.md, "Neighbour search and pair lists").
-  auto rows = [&](int y0, int y1) {
-    if constexpr (D < 2) return;  // rows along y exist from 2D on
-    std::array<std::uint32_t, kMaxRows> s0, s1;
-    for (int ya = y0; ya <= y1; ya += kMaxRows) {
-      const int yb = std::min(y1, ya + kMaxRows - 1);
-      if constexpr (D == 2) row_ranges(g, q, ya, yb, s0.data(), s1.data());
-      else row_ranges(g, q, r[2], ya, yb, s0.data(), s1.data());
-      for (std::size_t k = 0; k <= static_cast<std::size_t>(yb - ya); ++k)
-        if (s0[k] < s1[k]) f(s0[k], s1[k]);
-    }
+  // The rows' ranges first, kMaxRows at a time, then the scans. The chains of different rows overlap
+  // only when no scan lies between them (docs/performance.md, "Neighbour search and pair lists").
+  std::array<std::uint32_t, kMaxRows> s0, s1;
+  const auto scan = [&](int n) {
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k)
+      if (s0[k] < s1[k]) f(s0[k], s1[k]);
   };
   if constexpr (D == 1) {
-    const auto [s0, s1] = row_range<D>(g, q, r);
-    if (s0 < s1) f(s0, s1);
+    const auto [a, b] = row_range<D>(g, q, q.c);
+    if (a < b) f(a, b);
   } else if constexpr (D == 2) {
-    rows(first(1), std::min(q.c[1] + reach, g.dims[1] - 1));
+    const int y1 = std::min(q.c[1] + reach, g.dims[1] - 1);
+    for (int ya = first(1); ya <= y1; ya += kMaxRows) {
+      const int yb = std::min(y1, ya + kMaxRows - 1);
+      row_ranges(g, q, ya, yb, s0.data(), s1.data());
+      scan(yb - ya + 1);
+    }
   } else {
+    // The rows of all layers in turn (z outer, y inner), gathered across layers so that a search of
+    // reach 1 forms its nine rows' ranges in two vector rounds rather than three.
+    std::array<int, kMaxRows> ys{}, zs{};
+    int n = 0;
     for (int z = first(2); z <= std::min(q.c[2] + reach, g.dims[2] - 1); ++z) {
-      r[2] = z;
-      rows(z == q.c[2] ? first(1) : std::max(q.c[1] - reach, 0), std::min(q.c[1] + reach, g.dims[1] - 1));
+      const int y1 = std::min(q.c[1] + reach, g.dims[1] - 1);
+      for (int y = z == q.c[2] ? first(1) : std::max(q.c[1] - reach, 0); y <= y1; ++y) {
+        ys[static_cast<std::size_t>(n)] = y;
+        zs[static_cast<std::size_t>(n)] = z;
+        if (++n == kMaxRows) {
+          row_ranges(g, q, ys.data(), zs.data(), n, s0.data(), s1.data());
+          scan(n);
+          n = 0;
+        }
+      }
+    }
+    if (n > 0) {
+      row_ranges(g, q, ys.data(), zs.data(), n, s0.data(), s1.data());
+      scan(n);
     }
   }
 }

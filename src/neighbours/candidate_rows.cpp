@@ -1,6 +1,5 @@
-// The ranges of slots of a point's rows of cells, in 2D or in one layer of 3D cells
-// (candidate_ranges.hpp, row_ranges): row_range row by row, or, where the CPU has AVX-512, eight
-// rows at once. Each row costs a square root,
+// The ranges of slots of a point's rows of cells, in 2D or in 3D (candidate_ranges.hpp,
+// row_ranges): row_range row by row, or, where the CPU has AVX-512, eight rows at once. Each row costs a square root,
 // products, compares and two cell coordinates, and the search visits ~5 rows per particle
 // (docs/performance.md, "Vector loops (AVX-512 and AVX2)"). Both paths give the same ranges bit for
 // bit: the same operations in the same order, contraction off in this file (src/CMakeLists.txt),
@@ -19,16 +18,17 @@ namespace sphdisk {
 
 namespace {
 
-// z: the layer of 3D cells (unused in 2D).
+// The n rows (ys[k], zs[k]) (zs unused in 2D).
 template <int D>
-void row_ranges_scalar(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
+void row_ranges_scalar(const CellGrid<D>& g, const RowSearch<D>& q, const int* ys, const int* zs, int n, std::uint32_t* s0,
+                       std::uint32_t* s1) {
   std::array<int, D> cell = q.c;
-  if constexpr (D == 3) cell[2] = z;
-  for (int y = y0; y <= y1; ++y) {
-    cell[1] = y;
+  for (int k = 0; k < n; ++k) {
+    cell[1] = ys[k];
+    if constexpr (D == 3) cell[2] = zs[k];
     const auto [a, b] = row_range<D>(g, q, cell);
-    s0[y - y0] = a;
-    s1[y - y0] = b;
+    s0[k] = a;
+    s1[k] = b;
   }
 }
 
@@ -51,29 +51,31 @@ __attribute__((target("avx512f,avx512vl"))) __m256i coords_x(const CellGrid<D>& 
   return _mm512_maskz_cvttpd_epi32(kAll, c);
 }
 
-// Up to eight rows y0.. y0 + n - 1 (of layer z in 3D): the band distances, chords and end cells as
-// vectors, then the offsets loaded one by one (gathers are slow on AMD's AVX-512 CPUs:
-// core/avx512_partner_loads.hpp). In 3D the layer's squared band distance along z, the same for all
-// eight, is added to each row's along y, in row_range's order.
+// The squared distances from x, past the margin, to eight bands of cells along axis k: the bands
+// at coordinates c[0..8) (origin + c, as int), as row_range forms each.
 template <int D>
-__attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0, int n,
-                                                       std::uint32_t* s0, std::uint32_t* s1) {
-  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i band = _mm256_add_epi32(_mm256_set1_epi32(g.origin[1] + y0), lanes);  // origin + y, as int
-  const __m512d cs = _mm512_set1_pd(g.cell_size), xq = _mm512_set1_pd(q.x[1]), zero = _mm512_setzero_pd();
-  const __m512d margin = _mm512_set1_pd(q.margin), r2 = _mm512_set1_pd(q.radius * q.radius);
-  const __m512d lo = _mm512_add_pd(_mm512_set1_pd(g.lo[1]), _mm512_mul_pd(_mm512_maskz_cvtepi32_pd(kAll, band), cs));
+__attribute__((target("avx512f,avx512vl"), always_inline)) inline __m512d band_distances2(const CellGrid<D>& g, const RowSearch<D>& q,
+                                                                                        const int* c, int k) {
+  const auto kk = static_cast<std::size_t>(k);
+  const __m512d cs = _mm512_set1_pd(g.cell_size), xq = _mm512_set1_pd(q.x[k]), zero = _mm512_setzero_pd();
+  const __m256i band = _mm256_add_epi32(_mm256_set1_epi32(g.origin[kk]), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c)));
+  const __m512d lo = _mm512_add_pd(_mm512_set1_pd(g.lo[k]), _mm512_mul_pd(_mm512_maskz_cvtepi32_pd(kAll, band), cs));
   const __m512d d = _mm512_maskz_max_pd(kAll, _mm512_maskz_max_pd(kAll, _mm512_sub_pd(lo, xq), _mm512_sub_pd(xq, _mm512_add_pd(lo, cs))), zero);
-  const __m512d dm = _mm512_maskz_max_pd(kAll, _mm512_sub_pd(d, margin), zero);
-  __m512d d2 = _mm512_mul_pd(dm, dm);
-  std::size_t layer = 0;  // the first cell of layer z (CellGrid::linear)
-  if constexpr (D == 3) {
-    const double lo_z = g.lo[2] + (g.origin[2] + z) * g.cell_size;
-    const double dz = std::max({lo_z - q.x[2], q.x[2] - (lo_z + g.cell_size), 0.0});
-    const double dmz = std::max(dz - q.margin, 0.0);
-    d2 = _mm512_add_pd(d2, _mm512_set1_pd(dmz * dmz));
-    layer = static_cast<std::size_t>(z) * static_cast<std::size_t>(g.dims[1]);
-  }
+  const __m512d dm = _mm512_maskz_max_pd(kAll, _mm512_sub_pd(d, _mm512_set1_pd(q.margin)), zero);
+  return _mm512_mul_pd(dm, dm);
+}
+
+// Up to eight rows (ys[k], zs[k]), k < n (zs unused in 2D; both with eight readable entries): the
+// band distances, chords and end cells as vectors, then the offsets loaded one by one (gathers are slow on AMD's AVX-512 CPUs:
+// core/avx512_partner_loads.hpp). In 3D the rows of several layers share the vectors (a search of
+// reach 1 visits three rows in each of three layers), each lane adding its layer's squared band
+// distance along z to its row's along y, in row_range's order.
+template <int D>
+__attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<D>& g, const RowSearch<D>& q, const int* ys, const int* zs,
+                                                       int n, std::uint32_t* s0, std::uint32_t* s1) {
+  const __m512d margin = _mm512_set1_pd(q.margin), r2 = _mm512_set1_pd(q.radius * q.radius);
+  __m512d d2 = band_distances2<D>(g, q, ys, 1);
+  if constexpr (D == 3) d2 = _mm512_add_pd(d2, band_distances2<D>(g, q, zs, 2));
   const __mmask8 within = _mm512_cmp_pd_mask(d2, r2, _CMP_NGE_UQ);  // row_range: not d2 >= r^2
   const __m512d half_chord = _mm512_add_pd(_mm512_maskz_sqrt_pd(within, _mm512_maskz_sub_pd(within, r2, d2)), margin);
   const __m512d x = _mm512_set1_pd(q.x[0]), lo0 = _mm512_set1_pd(g.lo[0]), inv = _mm512_set1_pd(q.inv_cell);
@@ -90,21 +92,20 @@ __attribute__((target("avx512f,avx512vl"))) void rows8(const CellGrid<D>& g, con
       s0[k] = s1[k] = 0;
       continue;
     }
-    const std::size_t row = (layer + static_cast<std::size_t>(y0 + k)) * width;  // CellGrid::linear
-    bool own_row = q.after && y0 + k == q.c[1];
-    if constexpr (D == 3) own_row = own_row && z == q.c[2];
+    std::size_t layer = 0;  // the first cell of the row's layer (CellGrid::linear)
+    if constexpr (D == 3) layer = static_cast<std::size_t>(zs[k]) * static_cast<std::size_t>(g.dims[1]);
+    const std::size_t row = (layer + static_cast<std::size_t>(ys[k])) * width;
+    bool own_row = q.after && ys[k] == q.c[1];
+    if constexpr (D == 3) own_row = own_row && zs[k] == q.c[2];
     s1[k] = g.offsets[row + static_cast<std::size_t>(hi[k]) + 1];
     s0[k] = own_row ? *q.after + 1 : g.offsets[row + static_cast<std::size_t>(low[k])];
   }
 }
 
 template <int D>
-__attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGrid<D>& g, const RowSearch<D>& q, int z, int y0,
-                                                                   int y1, std::uint32_t* s0, std::uint32_t* s1) {
-  for (int y = y0; y <= y1; y += 8) {
-    const int n = std::min(8, y1 - y + 1);
-    rows8<D>(g, q, z, y, n, s0 + (y - y0), s1 + (y - y0));
-  }
+__attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGrid<D>& g, const RowSearch<D>& q, const int* ys,
+                                                                   const int* zs, int n, std::uint32_t* s0, std::uint32_t* s1) {
+  for (int k = 0; k < n; k += 8) rows8<D>(g, q, ys + k, D == 3 ? zs + k : nullptr, std::min(8, n - k), s0 + k, s1 + k);
 }
 
 #endif
@@ -112,17 +113,21 @@ __attribute__((target("avx512f,avx512vl"))) void row_ranges_avx512(const CellGri
 }  // namespace
 
 void row_ranges(const CellGrid<2>& g, const RowSearch<2>& q, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
+  std::array<int, kMaxRows> ys{};
+  const int n = y1 - y0 + 1;
+  for (int k = 0; k < n; ++k) ys[static_cast<std::size_t>(k)] = y0 + k;
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
-  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<2>(g, q, 0, y0, y1, s0, s1);
+  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<2>(g, q, ys.data(), nullptr, n, s0, s1);
 #endif
-  row_ranges_scalar<2>(g, q, 0, y0, y1, s0, s1);
+  row_ranges_scalar<2>(g, q, ys.data(), nullptr, n, s0, s1);
 }
 
-void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, int z, int y0, int y1, std::uint32_t* s0, std::uint32_t* s1) {
+void row_ranges(const CellGrid<3>& g, const RowSearch<3>& q, const int* ys, const int* zs, int n, std::uint32_t* s0,
+                std::uint32_t* s1) {
 #ifdef SPHDISK_X86_VECTOR_DISPATCH
-  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<3>(g, q, z, y0, y1, s0, s1);
+  if (vector_isa() == VectorIsa::avx512) return row_ranges_avx512<3>(g, q, ys, zs, n, s0, s1);
 #endif
-  row_ranges_scalar<3>(g, q, z, y0, y1, s0, s1);
+  row_ranges_scalar<3>(g, q, ys, zs, n, s0, s1);
 }
 
 }  // namespace sphdisk
