@@ -139,11 +139,20 @@ RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
 namespace {
 
 // The problem.* settings made the particles that the checkpoint holds (their number, masses, units
-// and time origin): a resume that changes one is refused, as the run could not honour it.
+// and time origin), the central mass sets the code units their state is in, and the viscosity the
+// clock that maps time to tau: a resume that changes one is refused, as the run could not honour it.
+// setting: a key, or an override "key=value".
+bool fixed_on_resume(const std::string& setting) {
+  std::string key = setting.substr(0, setting.find('='));
+  key.erase(key.find_last_not_of(" \t") + 1);
+  key.erase(0, key.find_first_not_of(" \t"));
+  return key.rfind("problem.", 0) == 0 || key == "physics.central_mass" || key == "physics.viscosity";
+}
+
 void refuse_changed_problem(const Config& stored, const Config& cfg) {
   for (std::size_t k = 0; k < cfg.resolved.size() && k < stored.resolved.size(); ++k) {
     const auto& [key, value] = cfg.resolved[k];
-    if (key.rfind("problem.", 0) == 0 && value != stored.resolved[k].second)
+    if (fixed_on_resume(key) && value != stored.resolved[k].second)
       throw UserError(key + " cannot change on resume (the checkpoint's particles were made with " + key + " = " +
                       stored.resolved[k].second + "); start a new run with sphdisk run");
   }
@@ -169,11 +178,11 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   std::vector<std::string> all_overrides = earlier_defaults;
   all_overrides.insert(all_overrides.end(), overrides.begin(), overrides.end());
   // "auto" neighbours given on resume: from the particles the run has now.
-  // What the checkpoint's particles were made with: its problem.* settings, the user's overrides of
-  // the others (which may replace a retired value the stored configuration names).
+  // What the checkpoint's particles were made with: its settings fixed on resume, the user's
+  // overrides of the others (which may replace a retired value the stored configuration names).
   std::vector<std::string> other_overrides = earlier_defaults;
   for (const std::string& o : overrides)
-    if (o.rfind("problem.", 0) != 0) other_overrides.push_back(o);
+    if (!fixed_on_resume(o)) other_overrides.push_back(o);
   const double particles = comm.sum_in_rank_order(static_cast<double>(p.size()));
   const Config stored = with_neighbours_resolved(parse_config(state.config_toml, path, other_overrides), particles);
   const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides), particles);

@@ -3,7 +3,8 @@
 # settings that decide the results); runs of the same settings share it, a resume keeps it, other
 # settings change it, and `sphdisk report` refuses a directory holding snapshots of two runs. A resume
 # that overrides settings continues the same run (its RunID kept, its report whole), a resume may not
-# change the problem.* settings that made the particles, and a finished run is not resumed at all.
+# change the problem.* settings that made the particles (nor the central mass or the viscosity, which
+# set the units and the clock), and a finished run is not resumed at all.
 # Usage: run_identity.sh SPHDISK
 set -uo pipefail
 exe=$1
@@ -21,6 +22,7 @@ common=(-q --set problem.particles=1500 --set 'output.tau=[0.0183, 0.0186]' --se
 "$exe" run "$config" "${common[@]}" -o "$work/d" --set run.max_steps=2 > /dev/null
 "$exe" resume "$work/d" -q --set run.max_steps=0 > /dev/null
 "$exe" run "$config" "${common[@]}" -o "$work/e" --set run.max_steps=2 > /dev/null
+"$exe" run "$config" "${common[@]}" -o "$work/f" --set run.max_steps=2 > /dev/null
 "$exe" resume "$work/e" -q --set run.max_steps=0 --set integrator.dt_max=5.0 > /dev/null
 a0=$(run_id "$work/a/snapshot_000.hdf5")
 check "RunID is 16 hex digits ($a0)" '[[ "$a0" =~ ^[0-9a-f]{16}$ ]]'
@@ -41,6 +43,14 @@ err=$("$exe" resume "$work/d" -q --set problem.particles=5000 2>&1 > /dev/null)
 code=$?
 check "resume --set problem.particles=... refused in one line naming the key (exit $code: $err)" \
   '[ $code -eq 2 ] && [ "$(wc -l <<< "$err")" -eq 1 ] && grep -q "problem.particles cannot change on resume" <<< "$err"'
+before_f=$(sums "$work/f")
+for key in physics.viscosity=6e-8 physics.central_mass=5; do
+  err=$("$exe" resume "$work/f" -q --set "$key" 2>&1 > /dev/null)
+  code=$?
+  check "resume --set $key (the run's units or clock) refused in one line (exit $code: $err)" \
+    '[ $code -eq 2 ] && [ "$(wc -l <<< "$err")" -eq 1 ] && grep -q "${key%%=*} cannot change on resume" <<< "$err"'
+done
+check "and the run's files stay as they were" '[ "$(sums "$work/f")" = "$before_f" ]'
 err=$("$exe" resume "$work/a" -q 2>&1 > /dev/null)
 code=$?
 check "resume of a finished run refused in one line naming the way on (exit $code: $err)" \
