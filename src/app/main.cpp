@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "app/ring_analysis.hpp"
 #include "app/sedov_analysis.hpp"
 #include "app/run_directory.hpp"
@@ -181,6 +183,22 @@ std::string command_line(int argc, char** argv) {
   return line;
 }
 
+// A --trace file is written when the run ends: a path that cannot take it is refused before the
+// run starts, not after hours of it.
+void check_trace_path(const std::string& path) {
+  if (path.empty()) return;
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (fs::is_directory(p, ec))
+    throw sphdisk::UserError("--trace '" + path + "' is a directory; give a file name, e.g. --trace " + (p / "trace.json").string());
+  if (!fs::is_directory(parent, ec))
+    throw sphdisk::UserError("--trace '" + path + "': the directory '" + parent.string() + "' does not exist; create it or give another path");
+  if (access(parent.c_str(), W_OK) != 0)
+    throw sphdisk::UserError("--trace '" + path + "': the directory '" + parent.string() + "' is not writable; give another path");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -251,12 +269,18 @@ int main(int argc, char** argv) {
         return 0;
       }
       if (config_path.empty()) throw sphdisk::UserError("run needs a configuration file, e.g. sphdisk run configs/ring.toml");
+      if (run->count("--output") > 0 && output_dir.empty())
+        throw sphdisk::UserError("--output (-o) was given an empty directory name; give a directory, or leave the option "
+                                 "out to write to output.dir");
+      check_trace_path(trace_file);
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
       const sphdisk::Config cfg = sphdisk::load_config(config_path, overrides);
       if (check_only) {
         // "auto" neighbours resolve from N here; from a file, once it is read.
-        std::cout << (cfg.initial_conditions.empty() ? sphdisk::with_neighbours_resolved(cfg, static_cast<double>(cfg.particles))
-                                                     : cfg).resolved_toml;
+        const sphdisk::Config resolved =
+            cfg.initial_conditions.empty() ? sphdisk::with_neighbours_resolved(cfg, static_cast<double>(cfg.particles)) : cfg;
+        sphdisk::check_neighbours_fit(resolved);
+        std::cout << resolved.resolved_toml;
         return 0;
       }
       const sphdisk::RunOptions opts{output_dir, overwrite, trace_file, quiet, false, command_line(argc, argv)};
@@ -272,6 +296,7 @@ int main(int argc, char** argv) {
     }
     if (*resume) {
       if (threads > 0) overrides.push_back("run.threads=" + std::to_string(threads));
+      check_trace_path(trace_file);
       const sphdisk::RunOptions opts{run_dir, false, trace_file, quiet, false, command_line(argc, argv)};
       const auto summary = sphdisk::resume_simulation(run_dir, opts, overrides);
       if (!sphdisk::Communicator::world().is_root()) return summary.interrupted ? 75 : 0;

@@ -27,6 +27,12 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
     throw UserError("cannot create output directory '" + dir + "': " + ec.message() + "; choose another with --output");
+  // A config.toml without a run's log beside it is the user's own file (say the configuration being
+  // run), which the run's resolved config.toml would replace, and --overwrite remove.
+  if (fs::exists(fs::path(dir) / "config.toml") && !fs::exists(fs::path(dir) / run_log::kName))
+    throw UserError("output directory '" + dir + "' holds a config.toml that no run wrote (no " + run_log::kName +
+                    " beside it), which the run would replace with its resolved settings; write the run elsewhere with "
+                    "--output, or move the file");
   if (!overwrite) {
     for (const auto& e : fs::directory_iterator(dir)) {
       const std::string name = e.path().filename().string();

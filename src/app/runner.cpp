@@ -380,7 +380,11 @@ RunSummary Runner<D>::advance() {
   // next output, which `sphdisk resume` replaces when it reaches that output (so the numbering stays
   // that of output.tau), and into a checkpoint to resume from (docs/formats.md, "Run directory").
   const bool stopped_early = !interrupted && static_cast<std::size_t>(s_.next_output) < t_out_.size();
-  if (stopped_early && last_output_step_ != s_.step) write_output(static_cast<std::size_t>(s_.next_output) + 1);
+  // The stopped state's snapshot: the next output's, unless the stop fell on an output time, whose
+  // snapshot (the last written) holds it already.
+  const bool at_output = last_output_step_ == s_.step;
+  const std::size_t state_snapshot = static_cast<std::size_t>(s_.next_output) + (at_output ? 0 : 1);
+  if (stopped_early && !at_output) write_output(state_snapshot);
   if (stopped_early && last_checkpoint_step_ != s_.step) write_checkpoint_now();
   on_root([&] {
     csv_.close();
@@ -422,7 +426,7 @@ RunSummary Runner<D>::advance() {
       run_log::print(stderr,
                      "stopped by run.max_steps at step %lld, tau %.6g: state in %s and %s; continue with: sphdisk resume %s "
                      "(each resume takes up to run.max_steps steps; --set run.max_steps=0 runs to the end)\n",
-                     s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, static_cast<std::size_t>(s_.next_output) + 1).c_str(),
+                     s_.step, setup_.tau_of_time(s_.time), snapshot_name(dir_, state_snapshot).c_str(),
                      kCheckpointName, dir_.c_str());
   }
   return sum;

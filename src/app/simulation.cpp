@@ -122,6 +122,7 @@ RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
   const Config cfg = given_cfg.initial_conditions.empty()
                          ? with_neighbours_resolved(given_cfg, static_cast<double>(given_cfg.particles))
                          : given_cfg;
+  check_neighbours_fit(cfg);
   apply_run_options(cfg, opts);
   const std::string dir = opts.output_dir.empty() ? cfg.output_dir : opts.output_dir;
   const Setup setup = make_setup(cfg);

@@ -484,6 +484,9 @@ Config with_neighbours_resolved(const Config& cfg, double particles) {
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
   if (!path.empty()) {
+    if (std::filesystem::is_directory(path))
+      throw UserError("'" + path + "' is a directory, not a configuration file; give a TOML file (e.g. configs/ring.toml), "
+                      "or continue the run in it with sphdisk resume " + path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw UserError("cannot read configuration file '" + path + "': check the path");
     std::ostringstream ss;
@@ -492,6 +495,18 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
   }
   const std::string dir = path.empty() ? "" : std::filesystem::absolute(path).parent_path().string();
   return parse_config(text, path.empty() ? "defaults" : path, overrides, dir);
+}
+
+void check_neighbours_fit(const Config& cfg) {
+  if (!cfg.initial_conditions.empty() || cfg.smoothing != "adaptive" || cfg.neighbours_auto()) return;
+  if (static_cast<double>(cfg.particles) < cfg.neighbours + 1)
+  {
+    char need[160];
+    std::snprintf(need, sizeof need, "%g neighbours per particle (sph.neighbours); give at least %.0f particles",
+                  cfg.neighbours, std::ceil(cfg.neighbours) + 1);
+    throw UserError("problem.particles = " + std::to_string(cfg.particles) + " is too few for " + need +
+                    ", or a smaller sph.neighbours");
+  }
 }
 
 std::string config_reference() {

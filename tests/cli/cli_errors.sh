@@ -55,6 +55,24 @@ expect_error sweep-dots-name "run name '..' must use only letters, digits, _ . -
 expect_error negative-threads "threads: Value -1 not in range" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 
+ring="$(dirname "$0")/../validation/small_ring.toml"
+expect_error config-is-directory "is a directory, not a configuration file" -- run "$work" --check
+expect_error empty-output "was given an empty directory name" -- run "$ring" -o ''
+expect_error trace-directory-missing "the directory '$work/nowhere' does not exist" -- run "$ring" -o "$work/o1" --trace "$work/nowhere/t.json"
+expect_error too-few-particles "problem.particles = 10 is too few for 60 neighbours" -- run "$ring" --set problem.particles=10 -o "$work/o1"
+expect_error too-few-particles-check "problem.particles = 10 is too few" -- run "$ring" --set problem.particles=10 --check
+# The user's own config.toml in the output directory (say the file being run) is never replaced,
+# with or without --overwrite.
+mkdir -p "$work/own" && cp "$ring" "$work/own/config.toml"
+for flag in "" --overwrite; do
+  expect_error "own-config-toml$flag" "holds a config.toml that no run wrote" -- run "$work/own/config.toml" $flag -o "$work/own"
+done
+if cmp -s "$ring" "$work/own/config.toml" && [ "$(ls "$work/own")" = config.toml ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: the user's config.toml was changed or files were added: $(ls "$work/own")"
+fi
+
 # A particle count that cannot fit in memory is refused up front with the estimate.
 expect_error memory "particles need about .* GiB but this machine has" -- run "$(dirname "$0")/../validation/small_ring.toml" --set problem.particles=2000000000 -o "$work/o5"
 

@@ -64,12 +64,12 @@ fi
 
 # Stopped at an output: nothing beyond it.
 dir=$work/stop5
-run --set run.max_steps=5 -o "$dir" > /dev/null 2>&1
+run --set run.max_steps=5 -o "$dir" > /dev/null 2> "$work/err"
 if [ "$(attr "$dir/snapshot_001.hdf5" Header Step)" = 5 ] && [ "$(attr "$dir/checkpoint.hdf5" Checkpoint Step)" = 5 ] &&
-   [ ! -e "$dir/snapshot_002.hdf5" ]; then
-  ok "run.max_steps=5 (the step of output 1): no further snapshot"
+   [ ! -e "$dir/snapshot_002.hdf5" ] && grep -q "state in $dir/snapshot_001.hdf5 and checkpoint.hdf5" "$work/err"; then
+  ok "run.max_steps=5 (the step of output 1): no further snapshot, and the stop names snapshot_001 as the state's"
 else
-  bad "run.max_steps=5: files $(ls "$dir")"
+  bad "run.max_steps=5: files $(ls "$dir"); $(cat "$work/err")"
 fi
 
 # A chain of resumes of 3 steps each (run.max_steps stays in the stored configuration); once the
