@@ -280,6 +280,7 @@ int main(int argc, char** argv) {
         const sphdisk::Config resolved =
             cfg.initial_conditions.empty() ? sphdisk::with_neighbours_resolved(cfg, static_cast<double>(cfg.particles)) : cfg;
         sphdisk::check_neighbours_fit(resolved);
+        sphdisk::check_initial_conditions_file(resolved);
         std::cout << resolved.resolved_toml;
         return 0;
       }

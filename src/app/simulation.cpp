@@ -66,10 +66,15 @@ RunSummary run_in(Config cfg, const RunOptions& opts, const std::string& dir, co
   Particles<D> p;
   RunState state;
   if (!cfg.initial_conditions.empty()) {
-    if (!fs::exists(cfg.initial_conditions))
-      throw UserError("problem.initial_conditions: no file '" + cfg.initial_conditions +
-                      "' (a relative path is taken from the configuration file's directory, or with --set from the "
-                      "current directory)");
+    check_initial_conditions_file(cfg);
+    // A file of another dimension would put a 2D disc in one plane of a 3D run, or drop a 3D
+    // disc's heights; other codes' files record none and are read as they are.
+    int recorded = 0;
+    run_collectively(comm, [&] { recorded = snapshot_dimension(cfg.initial_conditions, 0); });
+    if (recorded != 0 && recorded != D)
+      throw UserError("problem.initial_conditions '" + cfg.initial_conditions + "' holds a " + std::to_string(recorded) +
+                      "D run (Header/SimulationDimension) but sph.dimension = " + std::to_string(D) + "; set sph.dimension = " +
+                      std::to_string(recorded));
     // Each rank reads 1/P of the file's rows; the decomposition then sends each to its owner.
     SnapshotMeta meta;
     const h5::RowShare share{static_cast<std::size_t>(comm.rank()), static_cast<std::size_t>(comm.size())};
@@ -116,6 +121,13 @@ RunSummary run_in(Config cfg, const RunOptions& opts, const std::string& dir, co
 }
 
 }  // namespace
+
+void check_initial_conditions_file(const Config& cfg) {
+  if (!cfg.initial_conditions.empty() && !fs::is_regular_file(cfg.initial_conditions))
+    throw UserError("problem.initial_conditions: no file '" + cfg.initial_conditions +
+                    "' (a relative path is taken from the configuration file's directory, or with --set from the "
+                    "current directory)");
+}
 
 RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
   // A generated problem has its N now; a user's file resolves "auto" once it is read (run_in).

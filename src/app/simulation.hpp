@@ -36,6 +36,9 @@ std::string interruption_note(const RunSummary& s);
 
 RunSummary run_simulation(const Config& cfg, const RunOptions& opts);
 
+// Refuses a problem.initial_conditions that names no file (before a run, and for run --check).
+void check_initial_conditions_file(const Config& cfg);
+
 // Continues the run in `dir` from its checkpoint.hdf5 (same configuration; `overrides` may change
 // e.g. run.threads or extend output.tau). Any thread count gives the same bits.
 RunSummary resume_simulation(const std::string& dir, const RunOptions& opts, const std::vector<std::string>& overrides);

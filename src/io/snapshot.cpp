@@ -343,11 +343,11 @@ Particles<D> read_snapshot(const std::string& path, const UnitSystem* code_units
   return read_snapshot_unisolated<D>(path, code_units, meta, share);
 }
 
-int snapshot_dimension(const std::string& path) {
+int snapshot_dimension(const std::string& path, int unrecorded) {
   auto read = [&] {
     h5::Handle file = h5::open_file_readonly(path);
     h5::Handle header = h5::open_group(file, "Header", path);
-    if (!h5::has_attr(header, "SimulationDimension")) return 2;
+    if (!h5::has_attr(header, "SimulationDimension")) return unrecorded;
     const double d = h5::read_attr_double(header, "SimulationDimension", path);
     if (d != 2 && d != 3) throw UserError("'" + path + "': Header/SimulationDimension must be 2 or 3");
     return static_cast<int>(d);

@@ -59,9 +59,9 @@ double snapshot_box_size(const Particles<D>& p);
 // code_units given and a /Units group in the file, values are converted to those code units; with
 // nullptr (or no /Units) they are kept as stored. Throws UserError naming what is wrong. IDs are
 // checked to be unique within what was read (across shares: ids_unique in the domain).
-// The run's dimension a snapshot records (Header SimulationDimension; 2 where absent), so that it
-// is read into particles of it.
-int snapshot_dimension(const std::string& path);
+// The run's dimension a snapshot records (Header SimulationDimension; `unrecorded` where absent, as
+// in other codes' files), so that it is read into particles of it.
+int snapshot_dimension(const std::string& path, int unrecorded = 2);
 // The run identity a snapshot records (Header RunID; "" where absent).
 std::string snapshot_run_id(const std::string& path);
 

@@ -60,6 +60,7 @@ expect_error config-is-directory "is a directory, not a configuration file" -- r
 expect_error empty-output "was given an empty directory name" -- run "$ring" -o ''
 expect_error trace-directory-missing "the directory '$work/nowhere' does not exist" -- run "$ring" -o "$work/o1" --trace "$work/nowhere/t.json"
 expect_error too-few-particles "problem.particles = 10 is too few for 60 neighbours" -- run "$ring" --set problem.particles=10 -o "$work/o1"
+expect_error check-missing-ic "problem.initial_conditions: no file" -- run "$ring" --set "problem.initial_conditions=\"$work/none.hdf5\"" --check
 expect_error too-few-particles-check "problem.particles = 10 is too few" -- run "$ring" --set problem.particles=10 --check
 # The user's own config.toml in the output directory (say the file being run) is never replaced,
 # with or without --overwrite.
@@ -112,6 +113,10 @@ before=$(md5sum "$work/run/snapshot_001.hdf5")
 expect_error overwrite "already holds results" -- run "${small[@]}" -o "$work/run" "$(dirname "$0")/../validation/small_ring.toml"
 after=$(md5sum "$work/run/snapshot_001.hdf5")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: existing snapshot changed"; fi
+
+# A 2D run's snapshot as the initial conditions of a 3D run.
+expect_error ic-dimension "holds a 2D run (Header/SimulationDimension) but sph.dimension = 3" -- run "$ring" -o "$work/o7" \
+  --set sph.dimension=3 --set 'physics.eos="isothermal"' --set physics.aspect_ratio=0.05 --set "problem.initial_conditions=\"$work/run/snapshot_001.hdf5\""
 
 # Truncated snapshot and checkpoint (a copy cut in half, as after an interrupted transfer).
 cp "$work/run/snapshot_001.hdf5" "$work/cut.hdf5"
