@@ -170,6 +170,32 @@ std::string closest_word(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+// The first word of the command line that is not an option, where it names no command; "" otherwise.
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+  for (int k = 1; k < argc; ++k) {
+    const std::string word = argv[k];
+    if (word.rfind('-', 0) == 0) continue;
+    for (const CLI::App* s : app.get_subcommands({}))
+      if (s->get_name() == word) return "";
+    return word;
+  }
+  return "";
+}
+
+// The one line of a command-line mistake: what is wrong, then the closest command or option, or
+// where no command was recognised, the commands there are.
+std::string command_line_error(const CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
+  const std::string unknown = unknown_command(app, argc, argv);
+  std::string line = unknown.empty() ? one_line(e.what()) : "unknown command '" + unknown + "'";
+  std::string hint = closest_word(app, argc, argv);
+  if (hint.empty() && (!unknown.empty() || line.find("subcommand") != std::string::npos)) {
+    hint = "; the commands are";
+    for (const CLI::App* s : app.get_subcommands({})) hint += " " + s->get_name();
+    hint += " (sphdisk --help)";
+  }
+  return line + hint;
+}
+
 // The command as typed, a word quoted for the shell where it needs it (for run.log).
 std::string command_line(int argc, char** argv) {
   const char* plain = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-+=/.,:@%";
@@ -255,7 +281,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // One line, exit code 2, and the closest command or option where a word is mistyped (as the
     // configuration's errors).
-    std::cerr << "sphdisk: " << one_line(e.what()) << closest_word(app, argc, argv) << "\n";
+    std::cerr << "sphdisk: " << command_line_error(app, argc, argv, e) << "\n";
     return 2;
   }
   // Runs may span MPI ranks (mpirun -np P sphdisk run ...); the other commands are one process.

@@ -47,6 +47,7 @@ std::string csv_field(std::string s) {
 }
 
 Study read_study(const std::string& path) {
+  if (fs::is_directory(path)) throw UserError("'" + path + "' is a directory, not a study file; give a TOML study file");
   std::ifstream in(path);
   if (!in) throw UserError("cannot read study file '" + path + "'; give an existing TOML file");
   std::stringstream text;
@@ -84,10 +85,12 @@ Study read_study(const std::string& path) {
     for (const auto& [key, value] : *r)
       if (key != "name" && key != "set")
         throw UserError(path + ": unknown key '" + std::string(key.str()) + "' in run '" + run.name + "'; allowed: name, set");
+    const std::string set_form = ": run '" + run.name + "': 'set' must be a list of \"section.key=value\" strings";
+    if (r->contains("set") && !(*r)["set"].as_array()) throw UserError(path + set_form + " (in brackets, even for one)");
     if (const toml::array* set = (*r)["set"].as_array())
       for (const toml::node& o : *set) {
         const auto v = o.value<std::string>();
-        if (!v) throw UserError(path + ": run '" + run.name + "': 'set' must be a list of \"section.key=value\" strings");
+        if (!v) throw UserError(path + set_form);
         run.overrides.push_back(*v);
       }
     s.runs.push_back(std::move(run));

@@ -51,6 +51,8 @@ expect_error gradient-correction-name "sph.gradient_correction must be one of" -
 expect_error pair-lists-name "sph.pair_lists must be one of" -- run "$(dirname "$0")/../validation/small_ring.toml" --set 'sph.pair_lists="none"' -o "$work/o1"
 expect_error missing-snapshot "cannot open" -- analyze "$work/none.hdf5"
 printf 'base = "%s"\noutput = "%s/sw"\n[[run]]\nname = ".."\nset = []\n' "$(cd "$(dirname "$0")/../validation" && pwd)/small_ring.toml" "$work" > "$work/dots.toml"
+printf 'base = "%s"\noutput = "%s/sw"\n[[run]]\nname = "a"\nset = "problem.particles=2000"\n' "$(cd "$(dirname "$0")/../validation" && pwd)/small_ring.toml" "$work" > "$work/setstring.toml"
+expect_error sweep-set-not-a-list "'set' must be a list of \"section.key=value\" strings (in brackets, even for one)" -- sweep "$work/setstring.toml"
 expect_error sweep-dots-name "run name '..' must use only letters, digits, _ . - and not be dots alone" -- sweep "$work/dots.toml"
 expect_error negative-threads "threads: Value -1 not in range" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
@@ -105,6 +107,7 @@ done
 expect_error mistyped-subcommand "did you mean 'run'" -- rnu "$(dirname "$0")/../validation/small_ring.toml"
 expect_error mistyped-option "did you mean '--overwrite'" -- run "$(dirname "$0")/../validation/small_ring.toml" --overwrit
 expect_error unknown-option "not expected" -- analyze "$work/none.hdf5" --frobnicate
+expect_error unknown-command "unknown command 'frobnicate'; the commands are run resume" -- frobnicate
 
 # Existing outputs are never overwritten without --overwrite.
 small=(--set problem.particles=500 --set 'output.tau=[0.0182]' --set output.progress_interval=0)
