@@ -88,6 +88,8 @@ int report_interrupted(const sphdisk::RunSummary& summary) {
 }
 
 int cmd_report(const std::string& dir) {
+  if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
+    throw sphdisk::UserError("'" + dir + "' is a file, not a run directory; give the directory a run wrote (sphdisk report runs/ring)");
   const std::string script = std::string(SPHDISK_SOURCE_DIR) + "/tools/report.py";
   if (!std::filesystem::exists(script)) throw sphdisk::UserError("report script '" + script + "' not found");
   // The binary itself: a blast wave's report takes its similarity solution from `sphdisk analyze`.

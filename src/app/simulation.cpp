@@ -188,6 +188,10 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
     if (state.config_toml.find(key) == std::string::npos) earlier_defaults.emplace_back(earlier);
+  for (const std::string& o : overrides)
+    if (o.substr(0, o.find('=')).find("output.dir") != std::string::npos)
+      throw UserError("output.dir cannot change on resume: a run continues in its own directory ('" + dir +
+                      "'); copy the directory and resume the copy to continue elsewhere");
   std::vector<std::string> all_overrides = earlier_defaults;
   all_overrides.insert(all_overrides.end(), overrides.begin(), overrides.end());
   // "auto" neighbours given on resume: from the particles the run has now.

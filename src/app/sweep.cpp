@@ -56,7 +56,9 @@ Study read_study(const std::string& path) {
   try {
     t = toml::parse(text.str(), path);
   } catch (const toml::parse_error& e) {
-    throw UserError(path + ": invalid TOML: " + one_line(std::string(e.description())));
+    const auto& b = e.source().begin;
+    throw UserError(path + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) + ": invalid TOML: " +
+                    one_line(std::string(e.description())));
   }
   for (const auto& [key, node] : t)
     if (key != "base" && key != "output" && key != "attempts" && key != "run")

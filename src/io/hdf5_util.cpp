@@ -73,7 +73,7 @@ Handle open_file_readonly(const std::string& path) {
   if (H5Fis_hdf5(path.c_str()) <= 0)
     fail("cannot open '" + path + "' as an HDF5 file: it is missing, unreadable, truncated or not HDF5");
   Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!f.valid()) fail("cannot open HDF5 file '" + path + "': it is unreadable or corrupt");
+  if (!f.valid()) fail("cannot open HDF5 file '" + path + "': it is unreadable or corrupt (cut short by a transfer or a full disk?); copy it again or use another");
   return f;
 }
 

@@ -50,6 +50,10 @@ for key in physics.viscosity=6e-8 physics.central_mass=5; do
   check "resume --set $key (the run's units or clock) refused in one line (exit $code: $err)" \
     '[ $code -eq 2 ] && [ "$(wc -l <<< "$err")" -eq 1 ] && grep -q "${key%%=*} cannot change on resume" <<< "$err"'
 done
+err=$("$exe" resume "$work/f" -q --set 'output.dir="elsewhere"' 2>&1 > /dev/null)
+code=$?
+check "resume --set output.dir refused in one line (exit $code: $err)" \
+  '[ $code -eq 2 ] && [ "$(wc -l <<< "$err")" -eq 1 ] && grep -q "output.dir cannot change on resume" <<< "$err"'
 check "and the run's files stay as they were" '[ "$(sums "$work/f")" = "$before_f" ]'
 err=$("$exe" resume "$work/a" -q 2>&1 > /dev/null)
 code=$?
