@@ -94,7 +94,14 @@ bool exists_attr(hid_t obj, const std::string& name) {
 }
 
 Handle open_group(hid_t parent, const std::string& name, const std::string& file) {
-  if (!exists(parent, name)) fail("'" + file + "' has no group '" + name + "': not a snapshot in the sphdisk/GADGET layout");
+  if (!exists(parent, name)) {
+    // Each kind of file named as the other is said so (a snapshot given to resume, a checkpoint to analyze).
+    if (name == "Checkpoint")
+      fail("'" + file + "' has no group 'Checkpoint': not an sphdisk checkpoint (resume reads the checkpoint.hdf5 a run wrote)");
+    if (exists(parent, "Checkpoint"))
+      fail("'" + file + "' is an sphdisk checkpoint, not a snapshot; give a snapshot_NNN.hdf5 of the run");
+    fail("'" + file + "' has no group '" + name + "': not a snapshot in the sphdisk/GADGET layout");
+  }
   Handle g(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail("'" + file + "': cannot open group '" + name + "' (file corrupt?)");
   return g;

@@ -117,6 +117,11 @@ expect_error overwrite "already holds results" -- run "${small[@]}" -o "$work/ru
 after=$(md5sum "$work/run/snapshot_001.hdf5")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: existing snapshot changed"; fi
 
+# A checkpoint given to analyze, a snapshot in the place of a run's checkpoint.
+expect_error analyze-checkpoint "is an sphdisk checkpoint, not a snapshot; give a snapshot_NNN.hdf5" -- analyze "$work/run/checkpoint.hdf5"
+mkdir -p "$work/snaprun" && cp "$work/run/snapshot_001.hdf5" "$work/snaprun/checkpoint.hdf5"
+expect_error resume-snapshot "not an sphdisk checkpoint" -- resume "$work/snaprun"
+
 # A 2D run's snapshot as the initial conditions of a 3D run.
 expect_error ic-dimension "holds a 2D run (Header/SimulationDimension) but sph.dimension = 3" -- run "$ring" -o "$work/o7" \
   --set sph.dimension=3 --set 'physics.eos="isothermal"' --set physics.aspect_ratio=0.05 --set "problem.initial_conditions=\"$work/run/snapshot_001.hdf5\""
