@@ -88,12 +88,12 @@ int report_interrupted(const sphdisk::RunSummary& summary) {
 }
 
 int cmd_report(const std::string& dir) {
-  if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
     throw sphdisk::UserError("'" + dir + "' is a file, not a run directory; give the directory a run wrote (sphdisk report runs/ring)");
   const std::string script = std::string(SPHDISK_SOURCE_DIR) + "/tools/report.py";
   if (!std::filesystem::exists(script)) throw sphdisk::UserError("report script '" + script + "' not found");
   // The binary itself: a blast wave's report takes its similarity solution from `sphdisk analyze`.
-  std::error_code ec;
   const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
   const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir + "'" + (self.empty() ? "" : " --sphdisk '" + self + "'");
   const int rc = std::system(cmd.c_str());
@@ -214,7 +214,8 @@ std::string command_line(int argc, char** argv) {
 // A --trace file is written when the run ends: a path that cannot take it is refused before the
 // run starts, not after hours of it.
 void check_trace_path(const std::string& path) {
-  if (path.empty()) return;
+  // (Only rank 0 writes it: other ranks' nodes need not see its directory.)
+  if (path.empty() || !sphdisk::Communicator::world().is_root()) return;
   namespace fs = std::filesystem;
   const fs::path p(path);
   const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");

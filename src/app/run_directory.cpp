@@ -27,12 +27,20 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
     throw UserError("cannot create output directory '" + dir + "': " + ec.message() + "; choose another with --output");
-  // A config.toml without a run's log beside it is the user's own file (say the configuration being
-  // run), which the run's resolved config.toml would replace, and --overwrite remove.
-  if (fs::exists(fs::path(dir) / "config.toml") && !fs::exists(fs::path(dir) / run_log::kName))
-    throw UserError("output directory '" + dir + "' holds a config.toml that no run wrote (no " + run_log::kName +
-                    " beside it), which the run would replace with its resolved settings; write the run elsewhere with "
-                    "--output, or move the file");
+  // A config.toml with nothing of a run beside it (no log, diagnostics, snapshot or checkpoint) is
+  // the user's own file (say the configuration being run), which the run's resolved config.toml
+  // would replace, and --overwrite remove.
+  bool run_files = false, config_toml = false;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    config_toml = config_toml || name == "config.toml";
+    run_files = run_files || name == run_log::kName || name == kDiagnosticsName || name == kCheckpointName ||
+                name.rfind("snapshot_", 0) == 0;
+  }
+  if (config_toml && !run_files)
+    throw UserError("output directory '" + dir + "' holds a config.toml that no run wrote (no run's files beside it), "
+                    "which the run would replace with its resolved settings; write the run elsewhere with --output, "
+                    "or move the file");
   if (!overwrite) {
     for (const auto& e : fs::directory_iterator(dir)) {
       const std::string name = e.path().filename().string();

@@ -154,20 +154,25 @@ namespace {
 // The problem.* settings made the particles that the checkpoint holds (their number, masses, units
 // and time origin), the central mass sets the code units their state is in, and the viscosity the
 // clock that maps time to tau: a resume that changes one is refused, as the run could not honour it.
-// setting: a key, or an override "key=value".
+// setting: a key, or an override "key=value". (output.dir too: a run continues in its own directory.)
 bool fixed_on_resume(const std::string& setting) {
   std::string key = setting.substr(0, setting.find('='));
   key.erase(key.find_last_not_of(" \t") + 1);
   key.erase(0, key.find_first_not_of(" \t"));
-  return key.rfind("problem.", 0) == 0 || key == "physics.central_mass" || key == "physics.viscosity";
+  return key.rfind("problem.", 0) == 0 || key == "physics.central_mass" || key == "physics.viscosity" || key == "output.dir";
 }
 
-void refuse_changed_problem(const Config& stored, const Config& cfg) {
+void refuse_changed_problem(const Config& stored, const Config& cfg, const std::string& dir) {
   for (std::size_t k = 0; k < cfg.resolved.size() && k < stored.resolved.size(); ++k) {
     const auto& [key, value] = cfg.resolved[k];
-    if (fixed_on_resume(key) && value != stored.resolved[k].second)
-      throw UserError(key + " cannot change on resume (the checkpoint's particles were made with " + key + " = " +
-                      stored.resolved[k].second + "); start a new run with sphdisk run");
+    if (!fixed_on_resume(key) || value == stored.resolved[k].second) continue;
+    if (key == "output.dir")
+      throw UserError("output.dir cannot change on resume: a run continues in its own directory ('" + dir +
+                      "'); copy the directory and resume the copy to continue elsewhere");
+    const std::string why = key.rfind("problem.", 0) == 0 ? "the checkpoint's particles were made with "
+                                                           : "the run's code units and its clock of tau were set by ";
+    throw UserError(key + " cannot change on resume (" + why + key + " = " + stored.resolved[k].second +
+                    "); start a new run with sphdisk run");
   }
 }
 
@@ -188,10 +193,6 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
                                      std::pair{"pair_lists", "sph.pair_lists=\"stored\""},
                                      std::pair{"viscous_update", "integrator.viscous_update=\"explicit\""}})
     if (state.config_toml.find(key) == std::string::npos) earlier_defaults.emplace_back(earlier);
-  for (const std::string& o : overrides)
-    if (o.substr(0, o.find('=')).find("output.dir") != std::string::npos)
-      throw UserError("output.dir cannot change on resume: a run continues in its own directory ('" + dir +
-                      "'); copy the directory and resume the copy to continue elsewhere");
   std::vector<std::string> all_overrides = earlier_defaults;
   all_overrides.insert(all_overrides.end(), overrides.begin(), overrides.end());
   // "auto" neighbours given on resume: from the particles the run has now.
@@ -205,7 +206,7 @@ RunSummary resume_in(const std::string& path, const std::string& dir, const RunO
   const Config cfg = with_neighbours_resolved(parse_config(state.config_toml, path, all_overrides), particles);
   if (cfg.dimension != D)
     throw UserError("the checkpoint in '" + dir + "' holds a " + std::to_string(D) + "D run; sph.dimension cannot change on resume");
-  refuse_changed_problem(stored, cfg);
+  refuse_changed_problem(stored, cfg, dir);
   const Setup setup = make_setup(cfg);
   if (state.next_output >= static_cast<long long>(output_times(cfg, setup).size()))
     throw UserError("the run in '" + dir + "' is complete (every output written); to go on, resume it with later output "

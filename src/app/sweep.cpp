@@ -47,7 +47,8 @@ std::string csv_field(std::string s) {
 }
 
 Study read_study(const std::string& path) {
-  if (fs::is_directory(path)) throw UserError("'" + path + "' is a directory, not a study file; give a TOML study file");
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw UserError("'" + path + "' is a directory, not a study file; give a TOML study file");
   std::ifstream in(path);
   if (!in) throw UserError("cannot read study file '" + path + "'; give an existing TOML file");
   std::stringstream text;
@@ -109,6 +110,10 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std:
   for (const SweepRun& r : study.runs) {
     try {
       configs.push_back(load_config(study.base, r.overrides));
+      // (the run's own checks, made here for every run before any starts)
+      const Config& c = configs.back();
+      check_neighbours_fit(c.initial_conditions.empty() ? with_neighbours_resolved(c, static_cast<double>(c.particles)) : c);
+      check_initial_conditions_file(c);
     } catch (const UserError& e) {
       throw UserError("run '" + r.name + "': " + e.what());
     }

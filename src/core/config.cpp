@@ -484,7 +484,8 @@ Config with_neighbours_resolved(const Config& cfg, double particles) {
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
   if (!path.empty()) {
-    if (std::filesystem::is_directory(path))
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
       throw UserError("'" + path + "' is a directory, not a configuration file; give a TOML file (e.g. configs/ring.toml), "
                       "or continue the run in it with sphdisk resume " + path);
     std::ifstream in(path, std::ios::binary);

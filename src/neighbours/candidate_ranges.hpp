@@ -44,8 +44,8 @@ RowSearch<D> row_search(const CellGrid<D>& g, const Vec<D>& x, double radius, co
 
 // The slots [s0, s1) of the row of cells through `cell` (its x coordinate ignored) that the chord
 // of q's circle (sphere) reaches at the row's nearest distance from x; s0 >= s1: nothing to scan.
-// Each row's range is a chain of a square root and divisions (in 2D row_ranges forms up to eight
-// at once where the CPU has AVX-512: candidate_rows.cpp).
+// Each row's range is a chain of a square root and divisions (row_ranges forms up to eight at once
+// where the CPU has AVX-512: candidate_rows.cpp).
 template <int D>
 std::pair<std::uint32_t, std::uint32_t> row_range(const CellGrid<D>& g, const RowSearch<D>& q, std::array<int, D> cell) {
   // The squared distance from x to the row's band of cells (its y, and in 3D z, extent).

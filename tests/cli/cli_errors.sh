@@ -117,6 +117,19 @@ expect_error overwrite "already holds results" -- run "${small[@]}" -o "$work/ru
 after=$(md5sum "$work/run/snapshot_001.hdf5")
 if [ "$before" = "$after" ]; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: existing snapshot changed"; fi
 
+# A run directory of a version that wrote no run.log (config.toml beside its snapshots) is still an
+# earlier run: --overwrite replaces it.
+cp -r "$work/run" "$work/oldrun" && rm -f "$work/oldrun/run.log"
+if "$sphdisk" run -q "${small[@]}" --overwrite -o "$work/oldrun" "$(dirname "$0")/../validation/small_ring.toml" > /dev/null 2>&1 &&
+   [ -f "$work/oldrun/run.log" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --overwrite refused an earlier run's directory without run.log"
+fi
+# A study's runs get the run's own checks before any starts.
+printf 'base = "%s"\noutput = "%s/sw2"\n[[run]]\nname = "a"\nset = ["problem.particles=10"]\n' "$(cd "$(dirname "$0")/../validation" && pwd)/small_ring.toml" "$work" > "$work/fewstudy.toml"
+expect_error sweep-too-few-particles "run 'a': problem.particles = 10 is too few" -- sweep "$work/fewstudy.toml"
+
 # A checkpoint given to analyze, a snapshot in the place of a run's checkpoint.
 expect_error analyze-checkpoint "is an sphdisk checkpoint, not a snapshot; give a snapshot_NNN.hdf5" -- analyze "$work/run/checkpoint.hdf5"
 mkdir -p "$work/snaprun" && cp "$work/run/snapshot_001.hdf5" "$work/snaprun/checkpoint.hdf5"
