@@ -1,6 +1,7 @@
 // sphdisk command-line interface (docs/formats.md, "Command line"): run, resume, analyze, report, sweep.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -172,6 +173,20 @@ std::string closest_word(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+// A validator of whole numbers in [lo, hi], saying which of the two a value is not.
+CLI::Validator whole_number(long lo, long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& v) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long x = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || errno != 0) return "'" + v + "' is not a whole number";
+        if (x < lo || x > hi) return v + " is not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        return "";
+      },
+      "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
 // The first word of the command line that is not an option, where it names no command; "" otherwise.
 std::string unknown_command(const CLI::App& app, int argc, char** argv) {
   for (int k = 1; k < argc; ++k) {
@@ -250,7 +265,7 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);  // one value per --set, so a positional may follow
   run->add_option("--output,-o", output_dir, "output directory (overrides output.dir)");
   run->add_flag("--overwrite", overwrite, "replace the results of an earlier run in the output directory");
-  run->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(CLI::Range(0, 4096));
+  run->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(whole_number(0, 4096));
   run->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   run->add_flag("--quiet,-q", quiet, "no progress lines");
   run->add_flag("--help-config", help_config, "list every configuration key with its default and exit");
@@ -260,14 +275,14 @@ int main(int argc, char** argv) {
   resume->add_option("dir", run_dir, "run directory holding checkpoint.hdf5")->required();
   resume->add_option("--set", overrides, "override a key, e.g. run.threads or a longer output.tau (repeatable)")
       ->allow_extra_args(false);
-  resume->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(CLI::Range(0, 4096));
+  resume->add_option("--threads,-t", threads, "threads (overrides run.threads)")->check(whole_number(0, 4096));
   resume->add_option("--trace", trace_file, "write a Chrome trace-event JSON file (opens in Perfetto)");
   resume->add_flag("--quiet,-q", quiet, "no progress lines");
 
   CLI::App* analyze = app.add_subcommand("analyze", "compare a snapshot with its analytic solution (the ring, a blast wave) or give a disc's radial profiles");
   analyze->add_option("snapshot", snapshot, "snapshot file (HDF5)")->required();
   analyze->add_option("--json", json_path, "also write the comparison as JSON");
-  analyze->add_option("--bins", bins, "number of radial bins (the ring: over 0.05-2.05 r0; a blast wave: shells to 1.5 shock radii)")->check(CLI::Range(1, 100000));
+  analyze->add_option("--bins", bins, "number of radial bins (the ring: over 0.05-2.05 r0; a blast wave: shells to 1.5 shock radii)")->check(whole_number(1, 100000));
 
   std::string study_path;
   CLI::App* sweep = app.add_subcommand("sweep", "run a study of simulations spread over MPI ranks (mpirun -np P sphdisk sweep ...)");

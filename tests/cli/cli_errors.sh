@@ -54,7 +54,8 @@ printf 'base = "%s"\noutput = "%s/sw"\n[[run]]\nname = ".."\nset = []\n' "$(cd "
 printf 'base = "%s"\noutput = "%s/sw"\n[[run]]\nname = "a"\nset = "problem.particles=2000"\n' "$(cd "$(dirname "$0")/../validation" && pwd)/small_ring.toml" "$work" > "$work/setstring.toml"
 expect_error sweep-set-not-a-list "'set' must be a list of \"section.key=value\" strings (in brackets, even for one)" -- sweep "$work/setstring.toml"
 expect_error sweep-dots-name "run name '..' must use only letters, digits, _ . - and not be dots alone" -- sweep "$work/dots.toml"
-expect_error negative-threads "threads: Value -1 not in range" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
+expect_error threads-not-a-number "threads: 'abc' is not a whole number" -- run "$(dirname "$0")/../validation/small_ring.toml" -t abc -o "$work/o1"
+expect_error negative-threads "threads: -1 is not in \[0, 4096\]" -- run "$(dirname "$0")/../validation/small_ring.toml" -t -1 -o "$work/o1"
 expect_error unwritable "not writable\|cannot create output directory" -- run "$(dirname "$0")/../validation/small_ring.toml" -o /proc/sphdisk
 
 ring="$(dirname "$0")/../validation/small_ring.toml"
