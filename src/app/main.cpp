@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -76,7 +77,9 @@ int cmd_analyze(const std::string& path, const std::string& json_path, int bins)
   if (!json_path.empty()) {
     std::ofstream f(json_path);
     f << json;
-    if (!f) throw sphdisk::UserError("cannot write '" + json_path + "'");
+    if (!f)
+      throw sphdisk::UserError("cannot write --json '" + json_path + "': " + std::strerror(errno) +
+                               "; give a path in a writable directory");
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -178,7 +179,7 @@ void Runner<D>::open_diagnostics() {
   const std::string path = (fs::path(dir_) / kDiagnosticsName).string();
   const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
   csv_.open(path, std::ios::app);
-  if (!csv_) throw UserError("cannot write '" + path + "'");
+  if (!csv_) throw UserError("cannot write '" + path + "': " + std::strerror(errno) + "; check the output directory's permissions and free space");
   if (fresh) csv_ << kDiagnosticsHeader << '\n';
   csv_.precision(17);
 }
