@@ -326,8 +326,8 @@ int main(int argc, char** argv) {
         // "auto" neighbours resolve from N here; from a file, once it is read.
         const sphdisk::Config resolved =
             cfg.initial_conditions.empty() ? sphdisk::with_neighbours_resolved(cfg, static_cast<double>(cfg.particles)) : cfg;
-        sphdisk::check_neighbours_fit(resolved);
-        sphdisk::check_initial_conditions_file(resolved);
+        sphdisk::check_neighbours_fit(cfg);
+        sphdisk::check_initial_conditions_file(cfg);
         std::cout << resolved.resolved_toml;
         return 0;
       }

@@ -151,10 +151,10 @@ RunSummary run_simulation(const Config& given_cfg, const RunOptions& opts) {
 
 namespace {
 
-// The problem.* settings made the particles that the checkpoint holds (their number, masses, units
-// and time origin), the central mass sets the code units their state is in, and the viscosity the
-// clock that maps time to tau: a resume that changes one is refused, as the run could not honour it.
-// setting: a key, or an override "key=value". (output.dir too: a run continues in its own directory.)
+// The settings a resume may not change: the problem.* settings made the particles that the
+// checkpoint holds (their number, masses, units and time origin), the central mass sets the code
+// units their state is in, the viscosity the clock that maps time to tau, and a run continues in
+// its own directory (output.dir). setting: a key, or an override "key=value".
 bool fixed_on_resume(const std::string& setting) {
   std::string key = setting.substr(0, setting.find('='));
   key.erase(key.find_last_not_of(" \t") + 1);
@@ -162,6 +162,7 @@ bool fixed_on_resume(const std::string& setting) {
   return key.rfind("problem.", 0) == 0 || key == "physics.central_mass" || key == "physics.viscosity" || key == "output.dir";
 }
 
+// A resume that changes one is refused, as the run could not honour it.
 void refuse_changed_problem(const Config& stored, const Config& cfg, const std::string& dir) {
   for (std::size_t k = 0; k < cfg.resolved.size() && k < stored.resolved.size(); ++k) {
     const auto& [key, value] = cfg.resolved[k];

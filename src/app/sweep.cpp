@@ -111,9 +111,8 @@ SweepSummary run_sweep(const std::string& study_path, bool overwrite, const std:
     try {
       configs.push_back(load_config(study.base, r.overrides));
       // (the run's own checks, made here for every run before any starts)
-      const Config& c = configs.back();
-      check_neighbours_fit(c.initial_conditions.empty() ? with_neighbours_resolved(c, static_cast<double>(c.particles)) : c);
-      check_initial_conditions_file(c);
+      check_neighbours_fit(configs.back());
+      check_initial_conditions_file(configs.back());
     } catch (const UserError& e) {
       throw UserError("run '" + r.name + "': " + e.what());
     }

@@ -499,12 +499,13 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 }
 
 void check_neighbours_fit(const Config& cfg) {
-  if (!cfg.initial_conditions.empty() || cfg.smoothing != "adaptive" || cfg.neighbours_auto()) return;
-  if (static_cast<double>(cfg.particles) < cfg.neighbours + 1)
+  if (!cfg.initial_conditions.empty() || cfg.smoothing != "adaptive") return;
+  const double neighbours = cfg.neighbours_auto() ? auto_neighbours(cfg.dimension, static_cast<double>(cfg.particles)) : cfg.neighbours;
+  if (static_cast<double>(cfg.particles) < neighbours + 1)
   {
     char need[160];
     std::snprintf(need, sizeof need, "%g neighbours per particle (sph.neighbours); give at least %.0f particles",
-                  cfg.neighbours, std::ceil(cfg.neighbours) + 1);
+                  neighbours, std::ceil(neighbours) + 1);
     throw UserError("problem.particles = " + std::to_string(cfg.particles) + " is too few for " + need +
                     ", or a smaller sph.neighbours");
   }

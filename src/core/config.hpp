@@ -128,7 +128,8 @@ double auto_neighbours(int dimension, double particles);
 Config with_neighbours_resolved(const Config& cfg, double particles);
 
 // Refuses a generated problem with adaptive h whose particles are too few for its neighbour number
-// (cfg with the number resolved): no kernel could hold its neighbours, and h would grow without end.
+// ("auto" as auto_neighbours resolves it): no kernel could hold its neighbours, and h would grow
+// without end.
 void check_neighbours_fit(const Config& cfg);
 
 // All keys with their help text, for `sphdisk run --help-config`.
