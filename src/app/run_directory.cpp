@@ -27,29 +27,27 @@ void prepare_output_dir(const std::string& dir, bool overwrite) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
     throw UserError("cannot create output directory '" + dir + "': " + ec.message() + "; choose another with --output");
+  // One pass over the directory: an earlier run's first result file, and whether it holds a run's
+  // log and a config.toml.
+  std::string result;
+  bool log = false, config_toml = false;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (result.empty() && (name.rfind("snapshot_", 0) == 0 || name == kDiagnosticsName || name == kCheckpointName)) result = name;
+    log = log || name == run_log::kName;
+    config_toml = config_toml || name == "config.toml";
+  }
   // A config.toml with nothing of a run beside it (no log, diagnostics, snapshot or checkpoint) is
   // the user's own file (say the configuration being run), which the run's resolved config.toml
   // would replace, and --overwrite remove.
-  bool run_files = false, config_toml = false;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    config_toml = config_toml || name == "config.toml";
-    run_files = run_files || name == run_log::kName || name == kDiagnosticsName || name == kCheckpointName ||
-                name.rfind("snapshot_", 0) == 0;
-  }
-  if (config_toml && !run_files)
+  if (config_toml && result.empty() && !log)
     throw UserError("output directory '" + dir + "' holds a config.toml that no run wrote (no run's files beside it), "
                     "which the run would replace with its resolved settings; write the run elsewhere with --output, "
                     "or move the file");
-  if (!overwrite) {
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const std::string name = e.path().filename().string();
-      if (name.rfind("snapshot_", 0) == 0 || name == kDiagnosticsName || name == kCheckpointName)
-        throw UserError("output directory '" + dir + "' already holds results (" + name +
-                        "); use --output for a new directory, --overwrite to replace them, or `sphdisk resume " + dir +
-                        "` to continue");
-    }
-  }
+  if (!overwrite && !result.empty())
+    throw UserError("output directory '" + dir + "' already holds results (" + result +
+                    "); use --output for a new directory, --overwrite to replace them, or `sphdisk resume " + dir +
+                    "` to continue");
   const std::string probe = (fs::path(dir) / ".sphdisk_write_test").string();
   std::ofstream f(probe);
   if (!f || !(f << "x") || (f.close(), !f)) throw UserError("output directory '" + dir + "' is not writable; choose another with --output");
