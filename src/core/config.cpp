@@ -501,14 +501,11 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 void check_neighbours_fit(const Config& cfg) {
   if (!cfg.initial_conditions.empty() || cfg.smoothing != "adaptive") return;
   const double neighbours = cfg.neighbours_auto() ? auto_neighbours(cfg.dimension, static_cast<double>(cfg.particles)) : cfg.neighbours;
-  if (static_cast<double>(cfg.particles) < neighbours + 1)
-  {
-    char need[160];
-    std::snprintf(need, sizeof need, "%g neighbours per particle (sph.neighbours); give at least %.0f particles",
-                  neighbours, std::ceil(neighbours) + 1);
-    throw UserError("problem.particles = " + std::to_string(cfg.particles) + " is too few for " + need +
-                    ", or a smaller sph.neighbours");
-  }
+  if (static_cast<double>(cfg.particles) >= neighbours + 1) return;
+  char why[200];
+  std::snprintf(why, sizeof why, "problem.particles = %lld is too few for %g neighbours per particle (sph.neighbours); "
+                "give at least %.0f particles, or a smaller sph.neighbours", cfg.particles, neighbours, std::ceil(neighbours) + 1);
+  throw UserError(why);
 }
 
 std::string config_reference() {
